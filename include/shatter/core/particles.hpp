@@ -1,0 +1,110 @@
+#pragma once
+// ParticleStore: material points as an entity-component store with structure-of-arrays columns
+// (DESIGN.md, "Data"). Columns are 64-byte aligned; only registered columns exist. Particles of
+// one material group occupy one contiguous range, so each group's constitutive kernel runs over
+// plain column slices.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <xsimd/config/xsimd_config.hpp>
+#include <xsimd/memory/xsimd_aligned_allocator.hpp>
+
+#include "shatter/core/fields.hpp"
+
+namespace shatter {
+
+template <class T>
+using AlignedVector = std::vector<T, xsimd::aligned_allocator<T, 64>>;
+
+// A half-open index range [begin, end) of particles.
+struct Range {
+  std::size_t begin = 0;
+  std::size_t end = 0;
+  constexpr std::size_t size() const { return end - begin; }
+  constexpr bool empty() const { return end == begin; }
+};
+
+// One material group: a contiguous range of particles sharing one constitutive model.
+struct Group {
+  Range range;
+  int material = 0;  // index into the simulation's material list
+};
+
+class ParticleStore {
+ public:
+  // Registers a column (zero-filled at the current size). Registering twice is harmless.
+  void require(Field f);
+  void require(IField f);
+  void require(FieldSet fields);
+  bool has(Field f) const { return present_[index(f)]; }
+  bool has(IField f) const { return ipresent_[index(f)]; }
+  FieldSet registered() const;
+
+  std::size_t size() const { return size_; }
+
+  // Appends n zero-initialised particles as a new group with the given material index; returns
+  // its range. Groups are only ever appended, so earlier ranges stay valid.
+  Range add_group(int material, std::size_t n);
+  const std::vector<Group>& groups() const { return groups_; }
+
+  // Column access; throws std::logic_error naming the field if it was not registered.
+  std::span<double> col(Field f);
+  std::span<const double> col(Field f) const;
+  std::span<std::int64_t> col(IField f);
+  std::span<const std::int64_t> col(IField f) const;
+
+  // Reorders every registered column: new particle k is old particle order[k]. The permutation
+  // must map each group range onto itself (the sort stage sorts within groups).
+  void permute(std::span<const std::uint32_t> order);
+
+  // Removes the particles whose flag is non-zero, keeping the order of the rest and the
+  // grouping (groups shrink). Returns how many were removed.
+  std::size_t remove_if(std::span<const std::uint8_t> flags);
+
+ private:
+  static constexpr std::size_t index(Field f) { return static_cast<std::size_t>(f); }
+  static constexpr std::size_t index(IField f) { return static_cast<std::size_t>(f); }
+  void resize(std::size_t n);
+
+  std::size_t size_ = 0;
+  std::array<AlignedVector<double>, kFieldCount> cols_{};
+  std::array<AlignedVector<std::int64_t>, kIFieldCount> icols_{};
+  std::array<bool, kFieldCount> present_{};
+  std::array<bool, kIFieldCount> ipresent_{};
+  std::vector<Group> groups_;
+  AlignedVector<double> scratch_;
+  AlignedVector<std::int64_t> iscratch_;
+};
+
+// Typed access for a stage that declared the fields it reads (R) and writes (W). Asking for a
+// field outside the declaration is a compile error, so a stage's data needs are its signature.
+template <FieldSet R, FieldSet W>
+class Columns {
+ public:
+  static constexpr FieldSet kReads = R;
+  static constexpr FieldSet kWrites = W;
+
+  explicit Columns(ParticleStore& store) : store_(&store) {}
+
+  template <Field F>
+  const double* in() const {
+    static_assert(R.has(F) || W.has(F), "stage reads a field it did not declare");
+    return store_->col(F).data();
+  }
+  template <Field F>
+  double* out() const {
+    static_assert(W.has(F), "stage writes a field it did not declare");
+    return store_->col(F).data();
+  }
+  std::size_t size() const { return store_->size(); }
+
+ private:
+  ParticleStore* store_;
+};
+
+}  // namespace shatter

@@ -1,0 +1,67 @@
+#pragma once
+// Solver settings: everything the MUSL step needs that is not particle data.
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "shatter/material/material_model.hpp"
+
+namespace shatter {
+
+using Vec3 = Eigen::Vector3d;
+
+// Shape functions (ISSUE engine item 4). uGIMP is the paper's choice (Sec. 2).
+enum class ShapeKind : std::uint8_t { linear, ugimp, bspline2 };
+constexpr std::string_view name_of(ShapeKind s) {
+  return s == ShapeKind::linear ? "linear" : s == ShapeKind::ugimp ? "ugimp" : "bspline2";
+}
+
+// Boundary condition on one face of the domain box; the face lies on a grid plane.
+//  none      - open: the sparse grid simply grows (debris may fly anywhere)
+//  fixed     - nodes on and beyond the plane have zero velocity
+//  slip      - nodes on and beyond the plane have zero normal velocity
+//  symmetry  - mirror plane: the grid field is made mirror-symmetric about the plane, so a half
+//              model reproduces the full one (the paper halves its particle count this way)
+//  outflow   - transmitting: material crossing the plane leaves the simulation, with its mass,
+//              momentum and energy booked as outflow
+enum class BoundaryKind : std::uint8_t { none, fixed, slip, symmetry, outflow };
+constexpr std::string_view name_of(BoundaryKind b) {
+  switch (b) {
+    case BoundaryKind::none: return "none";
+    case BoundaryKind::fixed: return "fixed";
+    case BoundaryKind::slip: return "slip";
+    case BoundaryKind::symmetry: return "symmetry";
+    case BoundaryKind::outflow: return "outflow";
+  }
+  return "?";
+}
+
+// Faces in the order -x, +x, -y, +y, -z, +z.
+struct Domain {
+  Vec3 lo = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  Vec3 hi = Vec3::Constant(std::numeric_limits<double>::infinity());
+  std::array<BoundaryKind, 6> faces{};  // all none
+};
+
+struct SolverConfig {
+  ShapeKind shape = ShapeKind::ugimp;
+  double cell_size = 0.0;  // h, edge of a grid cell (the paper's d_c)
+  // Eq. 34 allows CFL 1; 0.3 leaves room for the sound speed growing within one step in shocks.
+  double cfl = 0.3;
+  double dt_max = std::numeric_limits<double>::infinity();
+  // A time step below dt_min stops the run with an error (time-step collapse), rather than
+  // crawling forever; 0 disables the check.
+  double dt_min = 0.0;
+  Vec3 gravity = Vec3::Zero();
+  Domain domain;
+  ArtificialViscosity viscosity;
+  // Physically re-order particle columns by grid block every this many steps (between re-orders
+  // the block lists are index lists into the columns). 0 = never.
+  unsigned reorder_interval = 25;
+};
+
+}  // namespace shatter

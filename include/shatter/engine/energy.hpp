@@ -1,0 +1,27 @@
+#pragma once
+// Energy accounting (ISSUE engine item 9). Every Joule that enters or leaves the particles is
+// booked, so the total-energy error measures the integrator, not missing terms.
+
+#include <algorithm>
+#include <cmath>
+
+namespace shatter {
+
+struct EnergyBudget {
+  double kinetic = 0.0;        // sum 1/2 m v^2 (v at the half step the integrator holds)
+  double internal = 0.0;       // sum m E: thermal + strain energy
+  double potential = 0.0;      // -sum m g.x (uniform gravity)
+  double boundary_work = 0.0;  // energy removed by fixed/slip boundaries (positive = removed)
+  double outflow = 0.0;        // energy carried away by particles that left through outflow
+  double initial = 0.0;        // kinetic + internal + potential at t = 0
+  double scale = 0.0;          // largest |kinetic| + |internal| seen: the error's denominator
+
+  double total() const { return kinetic + internal + potential; }
+  // Relative total-energy error: (E - E_0 + removed) / scale.
+  double error() const {
+    const double s = std::max(scale, 1e-300);
+    return (total() + boundary_work + outflow - initial) / s;
+  }
+};
+
+}  // namespace shatter

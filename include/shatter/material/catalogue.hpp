@@ -1,0 +1,60 @@
+#pragma once
+// The material catalogue (ISSUE materials, "Material catalogue"): named parameter sets, each with
+// its source, loaded from TOML (data/materials.toml ships with shatter), validated on load, and
+// turned into constitutive models. Implemented in src/materials/.
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "shatter/material/material_model.hpp"
+
+namespace shatter {
+
+// One named parameter set. Model names and parameter keys are those of data/materials.toml;
+// all values SI (Pa, kg/m^3, J/kg, m^-3).
+struct MaterialSpec {
+  std::string name;
+  std::string source;    // literature reference for the numbers
+  std::string eos;       // tillotson | tillotson_simplified | mie_gruneisen | linear_polynomial |
+                         // linear_elastic | ideal_gas
+  std::string strength;  // hydro | elastic | von_mises | linear_hardening | drucker_prager |
+                         // lundborg | modified_lundborg
+  std::map<std::string, double> params;
+
+  double get(std::string_view key) const;  // throws naming the material and key if absent
+};
+
+// Damage model chosen for a material group (parameters per MPM paper Sec. 3.3 / BA95 Sec. 3).
+struct DamageSpec {
+  std::string model = "none";  // none | grady_kipp | brittle | fatigue
+  std::map<std::string, double> params;
+};
+
+class MaterialCatalogue {
+ public:
+  // Parses and validates a catalogue file; errors name the file, line and key.
+  static MaterialCatalogue load(const std::filesystem::path& file);
+  // The catalogue shipped in data/materials.toml.
+  static MaterialCatalogue builtin();
+
+  const MaterialSpec& get(std::string_view name) const;  // throws listing the known names
+  bool contains(std::string_view name) const;
+  std::vector<std::string> names() const;
+  void add(MaterialSpec spec);  // validates first
+
+ private:
+  std::map<std::string, MaterialSpec, std::less<>> specs_;
+};
+
+// Throws std::invalid_argument naming the material and the offending key when a parameter is
+// non-physical (non-positive modulus, Poisson outside [0, 0.5), rho_iv >= rho0, Eiv >= Ecv, ...),
+// or when a model name or parameter key is unknown.
+void validate(const MaterialSpec& spec);
+
+// Builds the constitutive model of one material group.
+MaterialPtr make_material(const MaterialSpec& spec, const DamageSpec& damage = {});
+
+}  // namespace shatter
