@@ -1,0 +1,20 @@
+#pragma once
+// Crash-safe file replacement: write to a temporary file beside the target, flush it to disk,
+// then rename it over the target. A crash at any point leaves either the old file or the new
+// one, never a mixture (POSIX rename is atomic within one file system).
+
+#include <filesystem>
+#include <string_view>
+
+namespace shatter::io {
+
+// The temporary name used while `target` is being written.
+std::filesystem::path temporary_for(const std::filesystem::path& target);
+
+// Flushes `temporary` to disk and renames it to `target` (then flushes the directory entry).
+void commit(const std::filesystem::path& temporary, const std::filesystem::path& target);
+
+// Writes `text` to `target` through a temporary file.
+void write_text_atomically(const std::filesystem::path& target, std::string_view text);
+
+}  // namespace shatter::io

@@ -1,0 +1,49 @@
+#pragma once
+// Checkpoints: everything needed to continue a run bit for bit — every registered particle
+// column (real and integer), the material groups, the integrator clock, the energy accounts, the
+// output schedule and the resolved scene text the run was started from. Written to a temporary
+// file and renamed over the previous checkpoint, so a crash while writing never destroys it.
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+
+#include "shatter/core/particles.hpp"
+#include "shatter/engine/energy.hpp"
+#include "shatter/engine/simulation.hpp"
+
+namespace shatter::io {
+
+// Where the output schedule stands, so a resumed run writes the same files at the same times.
+struct OutputCursor {
+  std::uint64_t next_snapshot = 0;  // index of the next snapshot file
+  double next_snapshot_time = 0.0;  // s
+  double next_checkpoint_time = 0.0;  // s
+};
+
+struct RunState {
+  Clock clock;
+  EnergyBudget energy;
+  OutputCursor cursor;
+  std::string scene_text;  // the resolved scene (TOML) the run was started from
+  std::string program_version;
+};
+
+struct Checkpoint {
+  ParticleStore particles;
+  RunState state;
+};
+
+// Called after each dataset is written (name given). Lets a caller report progress; an exception
+// thrown from it abandons the write and leaves the previous checkpoint in place.
+using CheckpointProgress = std::function<void(std::string_view dataset)>;
+
+void write_checkpoint(const std::filesystem::path& file, const ParticleStore& store,
+                      const RunState& state, const CheckpointProgress& progress = {});
+
+// Throws std::runtime_error naming the file when it is missing, truncated or not a checkpoint.
+Checkpoint read_checkpoint(const std::filesystem::path& file);
+
+}  // namespace shatter::io

@@ -1,0 +1,53 @@
+#pragma once
+// Time series of global quantities (energies, time step, momentum, failure ratio), one CSV row
+// per sample, units in the header.
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <span>
+
+#include <Eigen/Core>
+
+#include "shatter/core/particles.hpp"
+#include "shatter/engine/energy.hpp"
+
+namespace shatter::io {
+
+struct TimeSeriesRow {
+  std::uint64_t step = 0;
+  double time = 0.0;  // s
+  double dt = 0.0;    // s
+  EnergyBudget energy;
+  Eigen::Vector3d momentum = Eigen::Vector3d::Zero();  // kg m/s
+  double failure_ratio = 0.0;  // fraction of damage-carrying points with D >= threshold
+  double wall = 0.0;           // s since the run (or resume) started
+};
+
+// The CSV header line (without newline).
+std::string_view timeseries_header();
+
+class TimeSeriesWriter {
+ public:
+  // Starts a new file. With `resume_after`, keeps the rows of an existing file up to and
+  // including that time (rows written after the checkpoint by a run that then died are dropped,
+  // the resumed run writes them again).
+  explicit TimeSeriesWriter(const std::filesystem::path& file);
+  TimeSeriesWriter(const std::filesystem::path& file, double resume_after);
+
+  void write(const TimeSeriesRow& row);
+  void flush() { out_.flush(); }
+
+ private:
+  std::ofstream out_;
+};
+
+// Sum of m v over all particles (kg m/s).
+Eigen::Vector3d total_momentum(const ParticleStore& store);
+
+// Fraction of the points of the flagged groups (`counted[g]` for group g) whose damage is at or
+// above `threshold` (MPM paper Fig. 5: failed = D >= 0.9). 0 when no group is flagged or the
+// store has no damage column.
+double failure_ratio(const ParticleStore& store, double threshold, std::span<const bool> counted);
+
+}  // namespace shatter::io

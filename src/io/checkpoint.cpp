@@ -1,0 +1,127 @@
+#include "shatter/io/checkpoint.hpp"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "io/h5.hpp"
+#include "io/particles_h5.hpp"
+#include "shatter/io/atomic_file.hpp"
+
+namespace shatter::io {
+namespace {
+
+constexpr std::string_view kFormat = "shatter checkpoint";
+constexpr std::uint64_t kFormatVersion = 1;
+
+// Doubles are stored as native IEEE values, so a round trip is exact (restarts are bitwise).
+void write_clock(hid_t file, const Clock& c) {
+  h5::Handle g = h5::create_group(file, "clock");
+  h5::set_attr(g.get(), "time", c.time);
+  h5::set_attr(g.get(), "dt", c.dt);
+  h5::set_attr(g.get(), "dt_prev", c.dt_prev);
+  h5::set_attr(g.get(), "step", c.step);
+}
+
+Clock read_clock(hid_t file) {
+  h5::Handle g = h5::open_group(file, "clock");
+  Clock c;
+  c.time = h5::get_attr_double(g.get(), "time");
+  c.dt = h5::get_attr_double(g.get(), "dt");
+  c.dt_prev = h5::get_attr_double(g.get(), "dt_prev");
+  c.step = h5::get_attr_u64(g.get(), "step");
+  return c;
+}
+
+void write_energy(hid_t file, const EnergyBudget& e) {
+  h5::Handle g = h5::create_group(file, "energy");
+  h5::set_attr(g.get(), "units", std::string_view("J"));
+  h5::set_attr(g.get(), "kinetic", e.kinetic);
+  h5::set_attr(g.get(), "internal", e.internal);
+  h5::set_attr(g.get(), "potential", e.potential);
+  h5::set_attr(g.get(), "boundary_work", e.boundary_work);
+  h5::set_attr(g.get(), "outflow", e.outflow);
+  h5::set_attr(g.get(), "initial", e.initial);
+  h5::set_attr(g.get(), "scale", e.scale);
+}
+
+EnergyBudget read_energy(hid_t file) {
+  h5::Handle g = h5::open_group(file, "energy");
+  EnergyBudget e;
+  e.kinetic = h5::get_attr_double(g.get(), "kinetic");
+  e.internal = h5::get_attr_double(g.get(), "internal");
+  e.potential = h5::get_attr_double(g.get(), "potential");
+  e.boundary_work = h5::get_attr_double(g.get(), "boundary_work");
+  e.outflow = h5::get_attr_double(g.get(), "outflow");
+  e.initial = h5::get_attr_double(g.get(), "initial");
+  e.scale = h5::get_attr_double(g.get(), "scale");
+  return e;
+}
+
+void write_cursor(hid_t file, const OutputCursor& c) {
+  h5::Handle g = h5::create_group(file, "output");
+  h5::set_attr(g.get(), "next_snapshot", c.next_snapshot);
+  h5::set_attr(g.get(), "next_snapshot_time", c.next_snapshot_time);
+  h5::set_attr(g.get(), "next_checkpoint_time", c.next_checkpoint_time);
+}
+
+OutputCursor read_cursor(hid_t file) {
+  h5::Handle g = h5::open_group(file, "output");
+  OutputCursor c;
+  c.next_snapshot = h5::get_attr_u64(g.get(), "next_snapshot");
+  c.next_snapshot_time = h5::get_attr_double(g.get(), "next_snapshot_time");
+  c.next_checkpoint_time = h5::get_attr_double(g.get(), "next_checkpoint_time");
+  return c;
+}
+
+}  // namespace
+
+void write_checkpoint(const std::filesystem::path& file, const ParticleStore& store,
+                      const RunState& state, const CheckpointProgress& progress) {
+  h5::QuietErrors quiet;
+  const auto tmp = temporary_for(file);
+  try {
+    h5::Handle f = h5::create_file(tmp);
+    h5::set_attr(f.get(), "format", kFormat);
+    h5::set_attr(f.get(), "format_version", kFormatVersion);
+    h5::set_attr(f.get(), "program_version", state.program_version);
+    // A dataset, not an attribute: attributes are limited to 64 KiB in the default format.
+    h5::write_text(f.get(), "scene", state.scene_text);
+    write_clock(f.get(), state.clock);
+    write_energy(f.get(), state.energy);
+    write_cursor(f.get(), state.cursor);
+    if (progress) progress("state");
+    write_particles(f.get(), store, all_columns(store), progress);
+    if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
+      throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
+    }
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+  commit(tmp, file);
+}
+
+Checkpoint read_checkpoint(const std::filesystem::path& file) {
+  h5::QuietErrors quiet;
+  h5::Handle f = h5::open_file(file);
+  if (!h5::has_attr(f.get(), "format") || h5::get_attr_string(f.get(), "format") != kFormat) {
+    throw std::runtime_error(fmt::format("{} is not a shatter checkpoint", file.string()));
+  }
+  const auto version = h5::get_attr_u64(f.get(), "format_version");
+  if (version != kFormatVersion) {
+    throw std::runtime_error(fmt::format("{}: checkpoint format {} (this shatter reads {})",
+                                         file.string(), version, kFormatVersion));
+  }
+  Checkpoint c;
+  c.state.program_version = h5::get_attr_string(f.get(), "program_version");
+  c.state.scene_text = h5::read_text(f.get(), "scene");
+  c.state.clock = read_clock(f.get());
+  c.state.energy = read_energy(f.get());
+  c.state.cursor = read_cursor(f.get());
+  c.particles = read_particles(f.get());
+  return c;
+}
+
+}  // namespace shatter::io

@@ -1,0 +1,261 @@
+#include "io/h5.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace shatter::io::h5 {
+namespace {
+
+[[noreturn]] void fail(hid_t where, std::string_view what, std::string_view name) {
+  throw std::runtime_error(fmt::format("HDF5: cannot {} '{}' in {}", what, name, file_name(where)));
+}
+
+hid_t check(hid_t id, hid_t where, std::string_view what, std::string_view name) {
+  if (id < 0) fail(where, what, name);
+  return id;
+}
+
+void check(herr_t status, hid_t where, std::string_view what, std::string_view name) {
+  if (status < 0) fail(where, what, name);
+}
+
+Handle open_dataset(hid_t parent, const std::string& name) {
+  return {check(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), parent, "open dataset", name),
+          H5Dclose};
+}
+
+template <class T>
+void write_1d(hid_t parent, const std::string& name, hid_t type, std::span<const T> data) {
+  const hsize_t n = data.size();
+  Handle space{check(H5Screate_simple(1, &n, nullptr), parent, "create dataspace for", name),
+               H5Sclose};
+  Handle set{check(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                              H5P_DEFAULT),
+                   parent, "create dataset", name),
+             H5Dclose};
+  // An empty dataset has no data to write (and HDF5 rejects a null buffer).
+  if (n > 0) {
+    check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), parent, "write",
+          name);
+  }
+}
+
+template <class T>
+std::vector<T> read_1d(hid_t parent, const std::string& name, hid_t type) {
+  Handle set = open_dataset(parent, name);
+  Handle space{check(H5Dget_space(set.get()), parent, "get dataspace of", name), H5Sclose};
+  if (H5Sget_simple_extent_ndims(space.get()) != 1) fail(parent, "read 1-d dataset", name);
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space.get(), &n, nullptr);
+  std::vector<T> out(n);
+  if (n > 0) {
+    check(H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), parent, "read",
+          name);
+  }
+  return out;
+}
+
+Handle create_attr(hid_t obj, const std::string& name, hid_t type) {
+  Handle space{check(H5Screate(H5S_SCALAR), obj, "create dataspace for attribute", name),
+               H5Sclose};
+  return {check(H5Acreate2(obj, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT), obj,
+                "create attribute", name),
+          H5Aclose};
+}
+
+Handle open_attr(hid_t obj, const std::string& name) {
+  return {check(H5Aopen(obj, name.c_str(), H5P_DEFAULT), obj, "open attribute", name), H5Aclose};
+}
+
+}  // namespace
+
+Handle& Handle::operator=(Handle&& o) noexcept {
+  if (this != &o) {
+    reset();
+    id_ = o.id_;
+    close_ = o.close_;
+    o.id_ = -1;
+  }
+  return *this;
+}
+
+void Handle::reset() {
+  if (id_ >= 0 && close_ != nullptr) close_(id_);
+  id_ = -1;
+}
+
+QuietErrors::QuietErrors() {
+  H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+QuietErrors::~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+
+Handle create_file(const std::filesystem::path& path) {
+  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (id < 0) throw std::runtime_error(fmt::format("HDF5: cannot create file {}", path.string()));
+  return {id, H5Fclose};
+}
+
+Handle open_file(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) {
+    throw std::runtime_error(fmt::format("no such file: {}", path.string()));
+  }
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (id < 0) {
+    throw std::runtime_error(
+        fmt::format("{} is not a readable HDF5 file (truncated or corrupt?)", path.string()));
+  }
+  return {id, H5Fclose};
+}
+
+Handle create_group(hid_t parent, const std::string& name) {
+  return {check(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), parent,
+                "create group", name),
+          H5Gclose};
+}
+
+Handle open_group(hid_t parent, const std::string& name) {
+  if (!exists(parent, name)) fail(parent, "find group", name);
+  return {check(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), parent, "open group", name),
+          H5Gclose};
+}
+
+bool exists(hid_t parent, const std::string& name) {
+  return H5Lexists(parent, name.c_str(), H5P_DEFAULT) > 0;
+}
+
+std::vector<std::string> children(hid_t group) {
+  H5G_info_t info;
+  check(H5Gget_info(group, &info), group, "list group", "");
+  std::vector<std::string> names;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t len = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
+                                           H5P_DEFAULT);
+    if (len < 0) fail(group, "list group", "");
+    std::string name(static_cast<std::size_t>(len), '\0');
+    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
+                       H5P_DEFAULT);
+    names.push_back(std::move(name));
+  }
+  return names;
+}
+
+void write_doubles(hid_t parent, const std::string& name, std::span<const double> data) {
+  write_1d(parent, name, H5T_NATIVE_DOUBLE, data);
+}
+
+void write_ints(hid_t parent, const std::string& name, std::span<const std::int64_t> data) {
+  write_1d(parent, name, H5T_NATIVE_INT64, data);
+}
+
+std::vector<double> read_doubles(hid_t parent, const std::string& name) {
+  return read_1d<double>(parent, name, H5T_NATIVE_DOUBLE);
+}
+
+std::vector<std::int64_t> read_ints(hid_t parent, const std::string& name) {
+  return read_1d<std::int64_t>(parent, name, H5T_NATIVE_INT64);
+}
+
+bool is_float_dataset(hid_t parent, const std::string& name) {
+  Handle set = open_dataset(parent, name);
+  Handle type{check(H5Dget_type(set.get()), parent, "get type of", name), H5Tclose};
+  return H5Tget_class(type.get()) == H5T_FLOAT;
+}
+
+std::size_t dataset_size(hid_t parent, const std::string& name) {
+  Handle set = open_dataset(parent, name);
+  Handle space{check(H5Dget_space(set.get()), parent, "get dataspace of", name), H5Sclose};
+  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  if (n < 0) fail(parent, "size", name);
+  return static_cast<std::size_t>(n);
+}
+
+void set_attr(hid_t obj, const std::string& name, double value) {
+  Handle a = create_attr(obj, name, H5T_NATIVE_DOUBLE);
+  check(H5Awrite(a.get(), H5T_NATIVE_DOUBLE, &value), obj, "write attribute", name);
+}
+
+void set_attr(hid_t obj, const std::string& name, std::uint64_t value) {
+  Handle a = create_attr(obj, name, H5T_NATIVE_UINT64);
+  check(H5Awrite(a.get(), H5T_NATIVE_UINT64, &value), obj, "write attribute", name);
+}
+
+void set_attr(hid_t obj, const std::string& name, std::string_view value) {
+  // Fixed-length string of the exact size: h5dump, h5py and ParaView all read it as text.
+  Handle type{check(H5Tcopy(H5T_C_S1), obj, "copy string type for", name), H5Tclose};
+  check(H5Tset_size(type.get(), std::max<std::size_t>(value.size(), 1)), obj, "size string", name);
+  check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), obj, "pad string", name);
+  Handle a = create_attr(obj, name, type.get());
+  std::string buffer(value);
+  if (buffer.empty()) buffer.push_back('\0');
+  check(H5Awrite(a.get(), type.get(), buffer.data()), obj, "write attribute", name);
+}
+
+double get_attr_double(hid_t obj, const std::string& name) {
+  Handle a = open_attr(obj, name);
+  double v = 0.0;
+  check(H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v), obj, "read attribute", name);
+  return v;
+}
+
+std::uint64_t get_attr_u64(hid_t obj, const std::string& name) {
+  Handle a = open_attr(obj, name);
+  std::uint64_t v = 0;
+  check(H5Aread(a.get(), H5T_NATIVE_UINT64, &v), obj, "read attribute", name);
+  return v;
+}
+
+std::string get_attr_string(hid_t obj, const std::string& name) {
+  Handle a = open_attr(obj, name);
+  Handle type{check(H5Aget_type(a.get()), obj, "get type of attribute", name), H5Tclose};
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
+    fail(obj, "read fixed-length string attribute", name);
+  }
+  std::string out(H5Tget_size(type.get()), '\0');
+  check(H5Aread(a.get(), type.get(), out.data()), obj, "read attribute", name);
+  while (!out.empty() && out.back() == '\0') out.pop_back();
+  return out;
+}
+
+bool has_attr(hid_t obj, const std::string& name) { return H5Aexists(obj, name.c_str()) > 0; }
+
+void write_text(hid_t parent, const std::string& name, std::string_view text) {
+  Handle type{check(H5Tcopy(H5T_C_S1), parent, "copy string type for", name), H5Tclose};
+  check(H5Tset_size(type.get(), std::max<std::size_t>(text.size(), 1)), parent, "size", name);
+  check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), parent, "pad string", name);
+  Handle space{check(H5Screate(H5S_SCALAR), parent, "create dataspace for", name), H5Sclose};
+  Handle set{check(H5Dcreate2(parent, name.c_str(), type.get(), space.get(), H5P_DEFAULT,
+                              H5P_DEFAULT, H5P_DEFAULT),
+                   parent, "create dataset", name),
+             H5Dclose};
+  std::string buffer(text);
+  if (buffer.empty()) buffer.push_back('\0');
+  check(H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), parent,
+        "write", name);
+}
+
+std::string read_text(hid_t parent, const std::string& name) {
+  Handle set = open_dataset(parent, name);
+  Handle type{check(H5Dget_type(set.get()), parent, "get type of", name), H5Tclose};
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
+    fail(parent, "read fixed-length text dataset", name);
+  }
+  std::string out(H5Tget_size(type.get()), '\0');
+  check(H5Dread(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), parent,
+        "read", name);
+  while (!out.empty() && out.back() == '\0') out.pop_back();
+  return out;
+}
+
+std::string file_name(hid_t obj) {
+  const ssize_t len = H5Fget_name(obj, nullptr, 0);
+  if (len <= 0) return "<unknown file>";
+  std::string name(static_cast<std::size_t>(len), '\0');
+  H5Fget_name(obj, name.data(), name.size() + 1);
+  return name;
+}
+
+}  // namespace shatter::io::h5

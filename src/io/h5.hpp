@@ -1,0 +1,81 @@
+#pragma once
+// Thin RAII and error-checking layer over the HDF5 1.10 C API, shared by the snapshot and
+// checkpoint code. Every call that can fail is checked; a failure throws naming the file and the
+// object, so a bad or truncated file is an error message, never a crash.
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace shatter::io::h5 {
+
+// Owns one hid_t and closes it with the matching H5?close.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Handle() = default;
+  Handle(hid_t id, Closer close) : id_(id), close_(close) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept;
+  ~Handle() { reset(); }
+  void reset();
+  hid_t get() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+
+ private:
+  hid_t id_ = -1;
+  Closer close_ = nullptr;
+};
+
+// Silences HDF5's own error stack printing for the lifetime of the object; we report errors
+// ourselves with the file and object named.
+class QuietErrors {
+ public:
+  QuietErrors();
+  ~QuietErrors();
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+
+ private:
+  H5E_auto2_t func_ = nullptr;
+  void* data_ = nullptr;
+};
+
+Handle create_file(const std::filesystem::path& path);  // truncates
+Handle open_file(const std::filesystem::path& path);    // read-only
+Handle create_group(hid_t parent, const std::string& name);
+Handle open_group(hid_t parent, const std::string& name);
+bool exists(hid_t parent, const std::string& name);
+std::vector<std::string> children(hid_t group);
+
+void write_doubles(hid_t parent, const std::string& name, std::span<const double> data);
+void write_ints(hid_t parent, const std::string& name, std::span<const std::int64_t> data);
+std::vector<double> read_doubles(hid_t parent, const std::string& name);
+std::vector<std::int64_t> read_ints(hid_t parent, const std::string& name);
+// Kind of a dataset's values: true for floating point, false for integer.
+bool is_float_dataset(hid_t parent, const std::string& name);
+std::size_t dataset_size(hid_t parent, const std::string& name);
+
+void set_attr(hid_t obj, const std::string& name, double value);
+void set_attr(hid_t obj, const std::string& name, std::uint64_t value);
+void set_attr(hid_t obj, const std::string& name, std::string_view value);
+double get_attr_double(hid_t obj, const std::string& name);
+std::uint64_t get_attr_u64(hid_t obj, const std::string& name);
+std::string get_attr_string(hid_t obj, const std::string& name);
+bool has_attr(hid_t obj, const std::string& name);
+
+// Text stored as a scalar fixed-length string dataset (no 64 KiB attribute limit).
+void write_text(hid_t parent, const std::string& name, std::string_view text);
+std::string read_text(hid_t parent, const std::string& name);
+
+// Name of the file an object lives in (for messages).
+std::string file_name(hid_t obj);
+
+}  // namespace shatter::io::h5

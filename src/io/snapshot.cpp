@@ -1,0 +1,68 @@
+#include "shatter/io/snapshot.hpp"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "io/h5.hpp"
+#include "io/particles_h5.hpp"
+#include "shatter/io/atomic_file.hpp"
+
+namespace shatter::io {
+namespace {
+
+constexpr std::string_view kFormat = "shatter snapshot";
+
+SnapshotHeader read_header(hid_t file, const std::filesystem::path& path) {
+  if (!h5::has_attr(file, "format") || h5::get_attr_string(file, "format") != kFormat) {
+    throw std::runtime_error(fmt::format("{} is not a shatter snapshot", path.string()));
+  }
+  SnapshotHeader h;
+  h.time = h5::get_attr_double(file, "time");
+  h.step = h5::get_attr_u64(file, "step");
+  h.program_version = h5::get_attr_string(file, "program_version");
+  return h;
+}
+
+}  // namespace
+
+void write_snapshot(const std::filesystem::path& file, const ParticleStore& store,
+                    const SnapshotHeader& header, const ColumnSelection& columns) {
+  h5::QuietErrors quiet;
+  const auto tmp = temporary_for(file);
+  {
+    h5::Handle f = h5::create_file(tmp);
+    h5::set_attr(f.get(), "format", kFormat);
+    h5::set_attr(f.get(), "time", header.time);
+    h5::set_attr(f.get(), "time_units", std::string_view("s"));
+    h5::set_attr(f.get(), "step", header.step);
+    h5::set_attr(f.get(), "program_version", header.program_version);
+    h5::set_attr(f.get(), "units", std::string_view("SI; see the units attribute of each column"));
+    write_particles(f.get(), store, columns);
+    if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
+      throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
+    }
+  }
+  commit(tmp, file);
+}
+
+Snapshot read_snapshot(const std::filesystem::path& file) {
+  h5::QuietErrors quiet;
+  h5::Handle f = h5::open_file(file);
+  Snapshot s;
+  s.header = read_header(f.get(), file);
+  s.particles = read_particles(f.get());
+  return s;
+}
+
+SnapshotInfo inspect_snapshot(const std::filesystem::path& file) {
+  h5::QuietErrors quiet;
+  h5::Handle f = h5::open_file(file);
+  SnapshotInfo info;
+  info.header = read_header(f.get(), file);
+  info.particles = particles_in_file(f.get());
+  info.columns = columns_in_file(f.get());
+  return info;
+}
+
+}  // namespace shatter::io
