@@ -18,6 +18,17 @@ struct FragmentSearchSpec {
   std::string method = "grid_density";  // grid_density (MPM paper) | friends_of_friends (BA95)
   double damage_threshold = 0.9;        // failed = D >= threshold
   double cell_size = 0.0;               // clustering grid; 0 = twice the mean particle spacing
+  // Two points are neighbours (friends) when closer than this; 0 = 1.5 x the mean particle
+  // spacing, which links face and edge neighbours of a cubic lattice but not body diagonals.
+  // Must not exceed cell_size (neighbours are searched in the 27 surrounding cells).
+  double linking_length = 0.0;
+  // grid_density: an unfailed point is extendable when the unfailed material in its cell fills
+  // at least this fraction of the cell (sum of unfailed volume0 / cell volume; with 2x2x2 points
+  // per cell, 0.5 = at least 4 unfailed points).
+  double extendable_ratio = 0.5;
+  // friends_of_friends: BA95's pre-pass, Pa; > 0 treats unfailed points whose largest principal
+  // stress reaches it as failed (the store's damage column is not modified). Needs the stress.
+  double static_strength = 0.0;
 };
 
 struct Fragment {
@@ -40,12 +51,32 @@ struct FragmentCatalogue {
   double total_mass = 0.0;
 };
 
-// Finds fragments; if the store has IField::fragment it is filled (-1 = dust).
+// Finds fragments; if the store has IField::fragment it is filled (-1 = dust). The result does
+// not depend on particle order when the store has IField::id (ties are broken by id).
 FragmentCatalogue find_fragments(ParticleStore& store, const FragmentSearchSpec& spec);
+
+// Fragment label per particle (-1 = dust), numbered by discovery; the step before kinematics.
+std::vector<std::int64_t> label_fragments(const ParticleStore& store,
+                                          const FragmentSearchSpec& spec);
+
+// Kinematics (MPM paper Eq. 20) of labelled particles; fragments sorted by mass, ids = rank.
+// On return labels hold the rank ids.
+FragmentCatalogue fragment_kinematics(const ParticleStore& store,
+                                      std::vector<std::int64_t>& labels);
+
+// Cumulative mass distribution: for each distinct fragment mass m (descending), the number of
+// fragments with mass >= m and their summed mass.
+struct CumulativePoint {
+  double mass = 0.0;
+  std::size_t count = 0;
+  double cumulative_mass = 0.0;
+};
+std::vector<CumulativePoint> cumulative_mass_distribution(const FragmentCatalogue& cat);
 
 void write_fragments_csv(const FragmentCatalogue& cat, const std::filesystem::path& file);
 void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::path& file);
 // pkdgrav-style text: mass, radius of equal volume, position, velocity, spin per fragment.
 void write_fragments_pkdgrav(const FragmentCatalogue& cat, const std::filesystem::path& file);
+void write_cumulative_mass_csv(const FragmentCatalogue& cat, const std::filesystem::path& file);
 
 }  // namespace shatter
