@@ -5,8 +5,10 @@
 
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "shatter/material/material_model.hpp"
@@ -20,8 +22,8 @@ struct MaterialSpec {
   std::string source;    // literature reference for the numbers
   std::string eos;       // tillotson | tillotson_simplified | mie_gruneisen | linear_polynomial |
                          // linear_elastic | ideal_gas
-  std::string strength;  // hydro | elastic | von_mises | linear_hardening | drucker_prager |
-                         // lundborg | modified_lundborg
+  std::string strength;  // hydro | elastic | von_mises | linear_hardening | benz_asphaug |
+                         // drucker_prager | lundborg | modified_lundborg
   std::map<std::string, double> params;
 
   double get(std::string_view key) const;  // throws naming the material and key if absent
@@ -49,9 +51,21 @@ class MaterialCatalogue {
   std::map<std::string, MaterialSpec, std::less<>> specs_;
 };
 
-// Throws std::invalid_argument naming the material and the offending key when a parameter is
-// non-physical (non-positive modulus, Poisson outside [0, 0.5), rho_iv >= rho0, Eiv >= Ecv, ...),
-// or when a model name or parameter key is unknown.
+// A parameter set that fails validation. key() is the offending parameter (or "eos",
+// "strength", "model" for a bad model name), so that the catalogue loader can point at its line.
+class MaterialError : public std::invalid_argument {
+ public:
+  MaterialError(const std::string& what, std::string key)
+      : std::invalid_argument(what), key_(std::move(key)) {}
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string key_;
+};
+
+// Throws MaterialError (a std::invalid_argument) naming the material and the offending key when a
+// parameter is non-physical (non-positive modulus, Poisson outside [0, 0.5), rho_iv >= rho0, Eiv >=
+// Ecv, ...), or when a model name or parameter key is unknown.
 void validate(const MaterialSpec& spec);
 
 // Builds the constitutive model of one material group.

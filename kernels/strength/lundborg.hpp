@@ -1,0 +1,63 @@
+#pragma once
+// Lundborg (1968) pressure-dependent strength with the Collins et al. (2004) damaged branch
+// (MPM paper App. B.3):
+//   intact   Y_i = Y0 + mu_i p / (1 + mu_i p / (Ym - Y0))   (Eq. 47)
+//   damaged  Y_d = mu_d p,  Y_d <= Y_i                       (Eq. 48)
+//   Y = (1 - D) Y_i + D Y_d                                   (Eq. 49)
+// times the linear melt factor (1 - E / E_melt) of Jutzi (2015). The return is the deviatoric
+// scaling s -> s Y / tau* (the classic simplified return the paper contrasts with its Eq. 5);
+// tau = sqrt(J2) is compared with Y.
+
+#include "strength/strength_common.hpp"
+
+namespace shatter::strength {
+
+struct Lundborg {
+  static constexpr FieldSet kFields{Field::plastic_strain, Field::heat};
+  static constexpr bool kHasShear = true;
+  ElasticConstants elastic{};
+  double cohesion = 0.0;          // Y0 (Pa)
+  double friction_intact = 0.0;   // mu_i
+  double friction_damaged = 0.0;  // mu_d
+  double strength_limit = 0.0;    // Ym (Pa)
+  double melt_energy = 0.0;       // E_melt (J/kg); 0 = no melt softening
+
+  // Tensile strength of intact rock, p_t = -Y0 (Ym - Y0) / (mu_i Ym): Y_i(p_t) = 0, and below it
+  // Eq. 47 would turn negative (and reach its pole at -(Ym - Y0)/mu_i).
+  double intact_tension() const {
+    return -cohesion * (strength_limit - cohesion) / (friction_intact * strength_limit);
+  }
+
+  template <class T>
+  T melt_factor(const T& energy) const {
+    using simd::vmax;
+    using simd::vmin;
+    if (melt_energy <= 0.0) return T(1.0);
+    return vmin(vmax(1.0 - energy / melt_energy, T(0.0)), T(1.0));
+  }
+
+  template <class T>
+  T yield(const T& p, const T& damage, const T& energy) const {
+    using simd::vmax;
+    using simd::vmin;
+    const T pi = vmax(p, T(intact_tension()));
+    const T yi = cohesion +
+                 friction_intact * pi / (1.0 + friction_intact * pi / (strength_limit - cohesion));
+    // Dry friction carries no tension, and is bounded by the intact strength (Eq. 48).
+    const T yd = vmin(friction_damaged * vmax(p, T(0.0)), yi);
+    return ((1.0 - damage) * yi + damage * yd) * melt_factor(energy);  // Eq. 49
+  }
+
+  template <class T>
+  void return_map(T (&s)[6], PlasticState<T>& st) const {
+    using simd::vmax;
+    using simd::vmin;
+    using simd::vsqrt;
+    const T tau_trial = vsqrt(j2(s));
+    const T tau = vmin(tau_trial, yield(st.p, st.damage, st.energy));
+    scale(s, tau / vmax(tau_trial, T(kTinyStress)));
+    book_plastic_work(tau_trial, tau, st.p, st.p, elastic, st);
+  }
+};
+
+}  // namespace shatter::strength

@@ -1,0 +1,81 @@
+#pragma once
+// ComposedModel: the MaterialModel of one material group, a thin shell around the compile-time
+// composed kernel (kernels/constitutive/composed_kernel.hpp). One virtual call per group and
+// step; the particle loop inside has no model branches.
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <variant>
+
+#include "constitutive/composed_kernel.hpp"
+#include "materials/damage_factory.hpp"
+#include "materials/model_factory.hpp"
+#include "shatter/material/material_model.hpp"
+
+namespace shatter::materials {
+
+// Column pointers of the store. Throws std::logic_error naming a column of `needed` that the
+// scene did not register. With increments = false the deps/dspin columns are not looked up.
+constitutive::ConstitutiveColumns gather_columns(ParticleStore& store, FieldSet needed,
+                                                 bool increments);
+
+template <class Eos, class Strength, class Damage>
+class ComposedModel final : public MaterialModel {
+ public:
+  ComposedModel(std::string name, Eos eos, Strength strength, Damage damage)
+      : name_(std::move(name)), kernel_(eos, strength, damage) {}
+
+  std::string name() const override { return name_; }
+
+  FieldSet fields() const override {
+    FieldSet f = Strength::kFields | Damage::kFields;
+    if constexpr (Damage::kEnabled) f = f | kDeviator;
+    return f;
+  }
+
+  double reference_density() const override { return kernel_.eos().reference_density(); }
+
+  void initialise(ParticleStore& store, Range range) const override {
+    kernel_.initialise(gather_columns(store, fields(), false), range.begin, range.end);
+  }
+
+  void update(ParticleStore& store, Range range, const ConstitutiveContext& ctx) const override {
+    const constitutive::StepParams sp{ctx.dt, ctx.cell_size, ctx.viscosity.linear,
+                                      ctx.viscosity.quadratic};
+    kernel_.update(gather_columns(store, fields(), true), range.begin, range.end, sp);
+  }
+
+  const constitutive::ComposedKernel<Eos, Strength, Damage>& kernel() const { return kernel_; }
+
+ private:
+  std::string name_;
+  constitutive::ComposedKernel<Eos, Strength, Damage> kernel_;
+};
+
+template <class Eos>
+MaterialPtr compose_with(const Eos& eos, const AnyStrength& strength, const AnyDamage& damage,
+                         const std::string& name) {
+  return std::visit(
+      [&](const auto& s, const auto& d) -> MaterialPtr {
+        using S = std::decay_t<decltype(s)>;
+        using D = std::decay_t<decltype(d)>;
+        return std::make_shared<const ComposedModel<Eos, S, D>>(name, eos, s, d);
+      },
+      strength, damage);
+}
+
+// One translation unit per EOS (compose_<eos>.cpp) keeps the instantiations apart.
+MaterialPtr compose(const eos::Tillotson&, const AnyStrength&, const AnyDamage&,
+                    const std::string&);
+MaterialPtr compose(const eos::TillotsonSimplified&, const AnyStrength&, const AnyDamage&,
+                    const std::string&);
+MaterialPtr compose(const eos::MieGruneisen&, const AnyStrength&, const AnyDamage&,
+                    const std::string&);
+MaterialPtr compose(const eos::LinearPolynomial&, const AnyStrength&, const AnyDamage&,
+                    const std::string&);
+MaterialPtr compose(const eos::LinearElastic&, const AnyStrength&, const AnyDamage&,
+                    const std::string&);
+MaterialPtr compose(const eos::IdealGas&, const AnyStrength&, const AnyDamage&, const std::string&);
+
+}  // namespace shatter::materials

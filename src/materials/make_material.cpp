@@ -1,0 +1,20 @@
+// make_material (catalogue.hpp): parameter set + damage spec -> composed constitutive model.
+
+#include <variant>
+
+#include "materials/composed_model.hpp"
+#include "materials/damage_factory.hpp"
+#include "materials/model_factory.hpp"
+#include "shatter/material/catalogue.hpp"
+
+namespace shatter {
+
+MaterialPtr make_material(const MaterialSpec& spec, const DamageSpec& damage) {
+  validate(spec);
+  const materials::AnyDamage d = materials::make_damage(damage);
+  const materials::AnyStrength s = materials::make_strength(spec);
+  return std::visit([&](const auto& e) { return materials::compose(e, s, d, spec.name); },
+                    materials::make_eos(spec));
+}
+
+}  // namespace shatter

@@ -1,0 +1,174 @@
+// Validation of a parameter set (catalogue.hpp): every key known to its models, every value
+// finite and physical. Each error names the material and the offending key.
+
+#include <cmath>
+#include <set>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "materials/elastic_constants.hpp"
+#include "materials/schema.hpp"
+#include "shatter/material/catalogue.hpp"
+
+namespace shatter {
+
+namespace {
+
+using materials::ModelSchema;
+
+// Keys every material may carry besides those of its models: the reference density and the two
+// ways of giving the elastic constants.
+constexpr std::string_view kCommonKeys[] = {"rho0", "young", "poisson", "shear_modulus",
+                                            "bulk_modulus"};
+
+[[noreturn]] void fail(const MaterialSpec& spec, std::string_view key, const std::string& why) {
+  throw MaterialError(fmt::format("material '{}': '{}' {}", spec.name, key, why), std::string(key));
+}
+
+class Checker {
+ public:
+  explicit Checker(const MaterialSpec& spec) : spec_(spec) {}
+
+  double value(std::string_view key) const { return spec_.params.find(std::string(key))->second; }
+  bool has(std::string_view key) const { return spec_.params.count(std::string(key)) != 0; }
+
+  void positive(std::string_view key) const {
+    if (has(key) && !(value(key) > 0.0))
+      fail(spec_, key, fmt::format("= {} must be > 0", value(key)));
+  }
+  void non_negative(std::string_view key) const {
+    if (has(key) && !(value(key) >= 0.0))
+      fail(spec_, key, fmt::format("= {} must be >= 0", value(key)));
+  }
+  void non_positive(std::string_view key) const {
+    if (has(key) && !(value(key) <= 0.0))
+      fail(spec_, key, fmt::format("= {} must be <= 0 (tension is negative pressure)", value(key)));
+  }
+
+ private:
+  const MaterialSpec& spec_;
+};
+
+void check_keys(const MaterialSpec& spec, const ModelSchema& eos, const ModelSchema& strength) {
+  std::set<std::string_view> allowed(std::begin(kCommonKeys), std::end(kCommonKeys));
+  for (const auto* m : {&eos, &strength}) {
+    allowed.insert(m->required.begin(), m->required.end());
+    allowed.insert(m->optional.begin(), m->optional.end());
+  }
+  for (const auto& [key, v] : spec.params) {
+    if (!allowed.count(key)) {
+      fail(spec, key,
+           fmt::format("is not a parameter of eos '{}' or strength '{}' (allowed: {})", eos.name,
+                       strength.name,
+                       materials::join_names(
+                           std::vector<std::string_view>(allowed.begin(), allowed.end()))));
+    }
+    if (!std::isfinite(v)) fail(spec, key, "is not a finite number");
+  }
+  if (!spec.params.count("rho0")) fail(spec, "rho0", "is missing (reference density, kg/m^3)");
+  for (const auto* m : {&eos, &strength}) {
+    for (auto key : m->required) {
+      if (!spec.params.count(std::string(key))) {
+        fail(spec, key, fmt::format("is missing (required by '{}')", m->name));
+      }
+    }
+  }
+}
+
+void check_eos(const MaterialSpec& spec, const Checker& c) {
+  c.positive("rho0");
+  const std::string& e = spec.eos;
+  if (e == "tillotson") {
+    for (auto k : {"A", "E0", "Eiv", "Ecv"}) c.positive(k);
+    for (auto k : {"B", "a", "b", "alpha", "beta", "rho_iv"}) c.non_negative(k);
+    if (!(c.value("Eiv") < c.value("Ecv")))
+      fail(spec, "Eiv", fmt::format("= {} must be < Ecv = {}", c.value("Eiv"), c.value("Ecv")));
+    if (!(c.value("rho_iv") < c.value("rho0")))
+      fail(spec, "rho_iv",
+           fmt::format("= {} must be < rho0 = {}", c.value("rho_iv"), c.value("rho0")));
+  } else if (e == "tillotson_simplified") {
+    c.positive("A");
+    c.non_negative("a");
+    c.non_negative("b");
+  } else if (e == "mie_gruneisen") {
+    c.positive("c0");
+    c.non_negative("s");
+    c.non_negative("gamma0");
+  } else if (e == "linear_polynomial") {
+    c.positive("C1");
+  } else if (e == "linear_elastic") {
+    c.positive("bulk_modulus");
+    if (!c.has("bulk_modulus") && !materials::has_elastic_pair(spec))
+      fail(spec, "bulk_modulus",
+           "is missing (linear_elastic needs bulk_modulus, or young and poisson)");
+  } else if (e == "ideal_gas") {
+    if (!(c.value("gamma") > 1.0))
+      fail(spec, "gamma", fmt::format("= {} must be > 1", c.value("gamma")));
+  }
+}
+
+void check_strength(const MaterialSpec& spec, const Checker& c) {
+  const std::string& s = spec.strength;
+  // Elastic constants: needed by every model with shear; optional for hydro (damage uses them).
+  if (s != "hydro" || materials::has_any_elastic_key(spec)) materials::elastic_constants(spec);
+  if (s == "von_mises" || s == "benz_asphaug" || s == "linear_hardening") {
+    c.positive("yield");
+    c.non_negative("plastic_modulus");
+  } else if (s == "drucker_prager") {
+    c.non_negative("cohesion");
+    c.non_negative("friction");
+    c.non_negative("dilatancy");
+    c.non_positive("tension_cutoff");
+    // The shear strength q_phi p + Y0 must not be negative on the admissible side of the cut-off.
+    const double pt = c.value("tension_cutoff");
+    if (c.value("friction") * pt + c.value("cohesion") < 0.0)
+      fail(spec, "tension_cutoff",
+           fmt::format("= {} lies beyond the cone apex -cohesion/friction = {}", pt,
+                       -c.value("cohesion") / c.value("friction")));
+  } else if (s == "lundborg" || s == "modified_lundborg") {
+    c.positive("cohesion");
+    c.positive("friction_intact");
+    c.non_negative("friction_damaged");
+    c.non_negative("dilatancy");
+    c.non_negative("melt_energy");
+    c.non_negative("melt_heat");
+    if (!(c.value("strength_limit") > c.value("cohesion")))
+      fail(spec, "strength_limit",
+           fmt::format("= {} must exceed cohesion = {}", c.value("strength_limit"),
+                       c.value("cohesion")));
+  }
+}
+
+}  // namespace
+
+void validate(const MaterialSpec& spec) {
+  if (spec.name.empty()) throw MaterialError("material with an empty name", "name");
+  const ModelSchema* eos = materials::find_eos(spec.eos);
+  if (eos == nullptr) {
+    fail(spec, "eos",
+         fmt::format("= '{}' is not a known equation of state (known: {})", spec.eos,
+                     materials::join_names(materials::eos_schemas())));
+  }
+  const ModelSchema* strength = materials::find_strength(spec.strength);
+  if (strength == nullptr) {
+    fail(spec, "strength",
+         fmt::format("= '{}' is not a known strength model (known: {})", spec.strength,
+                     materials::join_names(materials::strength_schemas())));
+  }
+  check_keys(spec, *eos, *strength);
+  const Checker c(spec);
+  check_eos(spec, c);
+  check_strength(spec, c);
+}
+
+double MaterialSpec::get(std::string_view key) const {
+  const auto it = params.find(std::string(key));
+  if (it == params.end()) {
+    throw MaterialError(fmt::format("material '{}': parameter '{}' is missing", name, key),
+                        std::string(key));
+  }
+  return it->second;
+}
+
+}  // namespace shatter
