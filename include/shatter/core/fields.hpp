@@ -13,32 +13,67 @@ namespace shatter {
 // kFieldNames are what snapshots and checkpoints call them.
 enum class Field : std::uint8_t {
   // kinematics
-  x, y, z, vx, vy, vz,
+  x,
+  y,
+  z,
+  vx,
+  vy,
+  vz,
   // mass and geometry
-  mass, volume0, size0, rho,
+  mass,
+  volume0,
+  size0,
+  rho,
   // thermodynamics and stress (Cauchy stress as seen by the momentum equation, Voigt order
   // xx, yy, zz, xy, yz, xz)
-  energy, sxx, syy, szz, sxy, syz, sxz, pressure, soundspeed,
+  energy,
+  sxx,
+  syy,
+  szz,
+  sxy,
+  syz,
+  sxz,
+  pressure,
+  soundspeed,
   // per-step increments written by the velocity-gradient stage (App. A.2 step 7): strain
   // increment (symmetric) and spin increment W = (L - L^T)/2 * dt (skew: xy, yz, xz parts)
-  deps_xx, deps_yy, deps_zz, deps_xy, deps_yz, deps_xz, dspin_xy, dspin_yz, dspin_xz,
+  deps_xx,
+  deps_yy,
+  deps_zz,
+  deps_xy,
+  deps_yz,
+  deps_xz,
+  dspin_xy,
+  dspin_yz,
+  dspin_xz,
   // strength-model state
-  sdev_xx, sdev_yy, sdev_zz, sdev_xy, sdev_yz, sdev_xz,  // undamaged deviator (damage on)
-  plastic_strain, heat,
+  sdev_xx,
+  sdev_yy,
+  sdev_zz,
+  sdev_xy,
+  sdev_yz,
+  sdev_xz,  // undamaged deviator (damage on)
+  plastic_strain,
+  heat,
   // fracture state (MPM paper Sec. 3.3)
-  damage, eps_min, eps_max, n_flaws, weibull_m, n_active,
+  damage,
+  eps_min,
+  eps_max,
+  n_flaws,
+  weibull_m,
+  n_active,
   kCount
 };
 
 inline constexpr std::size_t kFieldCount = static_cast<std::size_t>(Field::kCount);
 
 inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
-    "x",       "y",       "z",       "vx",       "vy",        "vz",        "mass",
-    "volume0", "size0",   "rho",     "energy",   "sxx",       "syy",       "szz",
-    "sxy",     "syz",     "sxz",     "pressure", "soundspeed", "deps_xx",  "deps_yy",
-    "deps_zz", "deps_xy", "deps_yz", "deps_xz",  "dspin_xy",  "dspin_yz",  "dspin_xz",
-    "sdev_xx", "sdev_yy", "sdev_zz", "sdev_xy",  "sdev_yz",   "sdev_xz",   "plastic_strain",
-    "heat",    "damage",  "eps_min", "eps_max",  "n_flaws",   "weibull_m", "n_active"};
+    "x",       "y",       "z",       "vx",       "vy",         "vz",        "mass",
+    "volume0", "size0",   "rho",     "energy",   "sxx",        "syy",       "szz",
+    "sxy",     "syz",     "sxz",     "pressure", "soundspeed", "deps_xx",   "deps_yy",
+    "deps_zz", "deps_xy", "deps_yz", "deps_xz",  "dspin_xy",   "dspin_yz",  "dspin_xz",
+    "sdev_xx", "sdev_yy", "sdev_zz", "sdev_xy",  "sdev_yz",    "sdev_xz",   "plastic_strain",
+    "heat",    "damage",  "eps_min", "eps_max",  "n_flaws",    "weibull_m", "n_active"};
 
 // Integer columns (64-bit so that particle ids never overflow).
 enum class IField : std::uint8_t { id, body, fragment, kCount };
@@ -46,8 +81,12 @@ inline constexpr std::size_t kIFieldCount = static_cast<std::size_t>(IField::kCo
 inline constexpr std::array<std::string_view, kIFieldCount> kIFieldNames = {"id", "body",
                                                                             "fragment"};
 
-constexpr std::string_view name_of(Field f) { return kFieldNames[static_cast<std::size_t>(f)]; }
-constexpr std::string_view name_of(IField f) { return kIFieldNames[static_cast<std::size_t>(f)]; }
+constexpr std::string_view name_of(Field f) {
+  return kFieldNames[static_cast<std::size_t>(f)];
+}
+constexpr std::string_view name_of(IField f) {
+  return kIFieldNames[static_cast<std::size_t>(f)];
+}
 
 // A compile-time set of fields; used by stages to declare what they read and write, so that a
 // stage cannot touch a column it did not ask for (checked by static_assert in Columns<>).
@@ -62,8 +101,10 @@ struct FieldSet {
   constexpr FieldSet with(Field f) const {
     FieldSet s = *this;
     const auto i = static_cast<unsigned>(f);
-    if (i < 64) s.lo |= std::uint64_t{1} << i;
-    else s.hi |= std::uint64_t{1} << (i - 64);
+    if (i < 64)
+      s.lo |= std::uint64_t{1} << i;
+    else
+      s.hi |= std::uint64_t{1} << (i - 64);
     return s;
   }
   constexpr bool has(Field f) const {

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string_view>
 
@@ -12,6 +13,7 @@
 
 namespace shatter {
 
+class ParticleStore;
 using Vec3 = Eigen::Vector3d;
 
 // Shape functions (ISSUE engine item 4). uGIMP is the paper's choice (Sec. 2).
@@ -31,11 +33,16 @@ constexpr std::string_view name_of(ShapeKind s) {
 enum class BoundaryKind : std::uint8_t { none, fixed, slip, symmetry, outflow };
 constexpr std::string_view name_of(BoundaryKind b) {
   switch (b) {
-    case BoundaryKind::none: return "none";
-    case BoundaryKind::fixed: return "fixed";
-    case BoundaryKind::slip: return "slip";
-    case BoundaryKind::symmetry: return "symmetry";
-    case BoundaryKind::outflow: return "outflow";
+    case BoundaryKind::none:
+      return "none";
+    case BoundaryKind::fixed:
+      return "fixed";
+    case BoundaryKind::slip:
+      return "slip";
+    case BoundaryKind::symmetry:
+      return "symmetry";
+    case BoundaryKind::outflow:
+      return "outflow";
   }
   return "?";
 }
@@ -57,6 +64,11 @@ struct SolverConfig {
   // crawling forever; 0 disables the check.
   double dt_min = 0.0;
   Vec3 gravity = Vec3::Zero();
+  // Optional body force per unit mass at each particle (Eq. 30, b_p), e.g. the source term of a
+  // manufactured solution. Called once per step at t^n with the particles and three arrays to
+  // fill; leave empty when unused (it then costs nothing).
+  std::function<void(double t, const ParticleStore&, double* bx, double* by, double* bz)>
+      body_force;
   Domain domain;
   ArtificialViscosity viscosity;
   // Physically re-order particle columns by grid block every this many steps (between re-orders

@@ -70,6 +70,8 @@ class Simulation {
   // Number of allocated grid blocks (memory grows with these, not with the bounding box).
   std::size_t active_blocks() const;
   std::size_t grid_bytes() const;
+  // Total nodal mass of the last step's grid (Eq. 32); equals the particle mass to round-off.
+  double grid_mass() const;
   const std::vector<StageTiming>& stage_timings() const;
 
   // Restores a checkpointed clock and energy accounts (particles come with the store).

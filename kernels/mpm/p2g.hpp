@@ -1,0 +1,115 @@
+#pragma once
+// Particle-to-grid scatter (App. A.2 steps 1 and 3; Eqs. 29, 32, 33) for the particles of one
+// owner block. Contributions are summed into a padded scratch copy of the 2x2x2 blocks the
+// stencils reach and then added to the grid, so the inner loop has fixed strides and the grid is
+// touched once per node. Callers run owner blocks colour by colour (see SparseGrid).
+
+#include <algorithm>
+#include <cstdint>
+#include <span>
+
+#include "mpm/stencil.hpp"
+
+namespace shatter::kernels {
+
+struct P2GParticles {
+  const double *x, *y, *z, *vx, *vy, *vz, *mass, *rho, *size0;
+  const double *sxx, *syy, *szz, *sxy, *syz, *sxz;  // null for a momentum-only scatter
+  const double *bx, *by, *bz;  // body force per unit mass (Eq. 30); null when there is none
+  double inv_h;
+};
+
+// Scratch grid: (kBlock + 2)^3 nodes reach every stencil node of the owner block's particles.
+struct P2GScratch {
+  static constexpr int kEdge = SparseGrid::kBlock + 2;
+  static constexpr int kSize = kEdge * kEdge * kEdge;
+  double m[kSize], px[kSize], py[kSize], pz[kSize], fx[kSize], fy[kSize], fz[kSize];
+};
+
+// kForce: also scatter the internal force -V_p sigma_p . grad N_I (Eq. 29); otherwise only mass
+// and momentum (the MUSL remap of step 6 needs momentum alone).
+template <class Shape, bool kForce>
+void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
+               const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
+               SparseGrid::Nodes& nodes, P2GScratch& s) {
+  constexpr int W = Shape::kWidth;
+  constexpr int E = P2GScratch::kEdge;
+  std::fill(std::begin(s.m), std::end(s.m), 0.0);
+  std::fill(std::begin(s.px), std::end(s.px), 0.0);
+  std::fill(std::begin(s.py), std::end(s.py), 0.0);
+  std::fill(std::begin(s.pz), std::end(s.pz), 0.0);
+  if constexpr (kForce) {
+    std::fill(std::begin(s.fx), std::end(s.fx), 0.0);
+    std::fill(std::begin(s.fy), std::end(s.fy), 0.0);
+    std::fill(std::begin(s.fz), std::end(s.fz), 0.0);
+  }
+
+  Stencil<Shape> st;
+  for (const std::uint32_t p : particles) {
+    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+    st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
+    const double m = in.mass[p];
+    const double mvx = m * in.vx[p], mvy = m * in.vy[p], mvz = m * in.vz[p];
+    double vol = 0.0, sxx = 0.0, syy = 0.0, szz = 0.0, sxy = 0.0, syz = 0.0, sxz = 0.0;
+    double mbx = 0.0, mby = 0.0, mbz = 0.0;
+    if constexpr (kForce) {
+      vol = m / in.rho[p];
+      // Scale by -V_p / h once so the node loop multiplies by the per-cell gradients only.
+      const double k = -vol * in.inv_h;
+      sxx = k * in.sxx[p], syy = k * in.syy[p], szz = k * in.szz[p];
+      sxy = k * in.sxy[p], syz = k * in.syz[p], sxz = k * in.sxz[p];
+      if (in.bx) mbx = m * in.bx[p], mby = m * in.by[p], mbz = m * in.bz[p];
+    }
+    for (int a = 0; a < W; ++a) {
+      for (int b = 0; b < W; ++b) {
+        const double wab = st.w[0][a] * st.w[1][b];
+        const double gx_ab = st.dw[0][a] * st.w[1][b];
+        const double gy_ab = st.w[0][a] * st.dw[1][b];
+        const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
+        for (int c = 0; c < W; ++c) {
+          const int i = row + c;
+          const double N = wab * st.w[2][c];
+          s.m[i] += m * N;
+          s.px[i] += mvx * N;
+          s.py[i] += mvy * N;
+          s.pz[i] += mvz * N;
+          if constexpr (kForce) {
+            const double gx = gx_ab * st.w[2][c];
+            const double gy = gy_ab * st.w[2][c];
+            const double gz = wab * st.dw[2][c];
+            s.fx[i] += sxx * gx + sxy * gy + sxz * gz + mbx * N;  // Eqs. 29, 30
+            s.fy[i] += sxy * gx + syy * gy + syz * gz + mby * N;
+            s.fz[i] += sxz * gx + syz * gy + szz * gz + mbz * N;
+          }
+        }
+      }
+    }
+  }
+
+  // Add the scratch grid into the (up to 8) blocks it overlaps.
+  constexpr int mask = SparseGrid::kBlock - 1;
+  constexpr int bits = SparseGrid::kBlockBits;
+  for (int lx = 0; lx < E; ++lx) {
+    for (int ly = 0; ly < E; ++ly) {
+      for (int lz = 0; lz < E; ++lz) {
+        const int i = (lx * E + ly) * E + lz;
+        if (s.m[i] == 0.0) continue;
+        const int sel = (lx >> bits) | ((ly >> bits) << 1) | ((lz >> bits) << 2);
+        const std::size_t g =
+            std::size_t{neighbours[sel]} * SparseGrid::kBlockNodes +
+            static_cast<std::size_t>(SparseGrid::local(lx & mask, ly & mask, lz & mask));
+        if constexpr (kForce) nodes.mass[g] += s.m[i];  // the remap reuses step 1's mass
+        nodes.px[g] += s.px[i];
+        nodes.py[g] += s.py[i];
+        nodes.pz[g] += s.pz[i];
+        if constexpr (kForce) {
+          nodes.fx[g] += s.fx[i];
+          nodes.fy[g] += s.fy[i];
+          nodes.fz[g] += s.fz[i];
+        }
+      }
+    }
+  }
+}
+
+}  // namespace shatter::kernels

@@ -1,0 +1,58 @@
+#pragma once
+// App. A.2 step 7 (kinematics): velocity gradient L_ij = sum_I v_iI dN_I/dx_j from the remapped
+// nodal velocities, strain increment deps = dt sym(L) (Eq. 21) and spin increment
+// dW = dt skew(L) (Eq. 23), and the density update rho^{n+1} = rho^n / (1 + tr deps).
+
+#include <cstdint>
+
+#include "mpm/stencil.hpp"
+
+namespace shatter::kernels {
+
+struct GradientParticles {
+  const double *x, *y, *z, *size0;
+  double* rho;
+  double *exx, *eyy, *ezz, *exy, *eyz, *exz;  // strain increment (tensor components)
+  double *wxy, *wyz, *wxz;                    // spin increment, W_ij = (L_ij - L_ji) dt / 2
+  double inv_h;
+  double dt;
+};
+
+// Grid velocity in p* (after the MUSL remap).
+template <class Shape>
+void velocity_gradient_particle(const GradientParticles& in, std::size_t p,
+                                const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
+                                const SparseGrid::Nodes& nodes) {
+  constexpr int W = Shape::kWidth;
+  Stencil<Shape> st;
+  const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+  st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
+  double L[3][3] = {};
+  for (int a = 0; a < W; ++a) {
+    for (int b = 0; b < W; ++b) {
+      for (int c = 0; c < W; ++c) {
+        const std::uint32_t i = st.node(neighbours, a, b, c);
+        const double g[3] = {st.dw[0][a] * st.w[1][b] * st.w[2][c],
+                             st.w[0][a] * st.dw[1][b] * st.w[2][c],
+                             st.w[0][a] * st.w[1][b] * st.dw[2][c]};
+        const double v[3] = {nodes.px[i], nodes.py[i], nodes.pz[i]};
+        for (int r = 0; r < 3; ++r) {
+          for (int q = 0; q < 3; ++q) L[r][q] += v[r] * g[q];
+        }
+      }
+    }
+  }
+  const double k = in.dt * in.inv_h;
+  in.exx[p] = k * L[0][0];
+  in.eyy[p] = k * L[1][1];
+  in.ezz[p] = k * L[2][2];
+  in.exy[p] = 0.5 * k * (L[0][1] + L[1][0]);
+  in.eyz[p] = 0.5 * k * (L[1][2] + L[2][1]);
+  in.exz[p] = 0.5 * k * (L[0][2] + L[2][0]);
+  in.wxy[p] = 0.5 * k * (L[0][1] - L[1][0]);
+  in.wyz[p] = 0.5 * k * (L[1][2] - L[2][1]);
+  in.wxz[p] = 0.5 * k * (L[0][2] - L[2][0]);
+  in.rho[p] /= 1.0 + k * (L[0][0] + L[1][1] + L[2][2]);  // App. A.2 step 7
+}
+
+}  // namespace shatter::kernels

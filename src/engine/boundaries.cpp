@@ -1,0 +1,223 @@
+#include "engine/boundaries.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+namespace shatter::engine {
+namespace {
+
+constexpr const char* kFaceNames[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
+
+}  // namespace
+
+Boundaries::Boundaries(const Domain& domain, double cell_size) : domain_(domain) {
+  for (int f = 0; f < 6; ++f) {
+    const BoundaryKind kind = domain.faces[static_cast<std::size_t>(f)];
+    if (kind == BoundaryKind::none) continue;
+    const int axis = f / 2;
+    const int side = (f % 2 == 0) ? -1 : 1;
+    const double at = side < 0 ? domain.lo[axis] : domain.hi[axis];
+    const double k = at / cell_size;
+    if (!std::isfinite(k) || std::abs(k - std::round(k)) > 1e-6) {
+      throw std::invalid_argument(fmt::format(
+          "domain face {} ({}) at {} m is not on a grid plane: it must be a multiple of the cell "
+          "size {} m",
+          kFaceNames[f], name_of(kind), at, cell_size));
+    }
+    planes_[static_cast<std::size_t>(count_++)] = {axis, side, std::llround(k), kind};
+  }
+}
+
+bool Boundaries::has_outflow() const {
+  for (int k = 0; k < count_; ++k) {
+    if (planes_[static_cast<std::size_t>(k)].kind == BoundaryKind::outflow) return true;
+  }
+  return false;
+}
+
+bool Boundaries::outside_outflow(const Vec3& x) const {
+  for (int f = 0; f < 6; ++f) {
+    if (domain_.faces[static_cast<std::size_t>(f)] != BoundaryKind::outflow) continue;
+    const int axis = f / 2;
+    if (f % 2 == 0 ? x[axis] < domain_.lo[axis] : x[axis] > domain_.hi[axis]) return true;
+  }
+  return false;
+}
+
+void Boundaries::constrain(const std::int64_t node[3], double& x, double& y, double& z) const {
+  double* v[3] = {&x, &y, &z};
+  for (int k = 0; k < count_; ++k) {
+    const Plane& pl = planes_[static_cast<std::size_t>(k)];
+    const std::int64_t i = node[pl.axis];
+    const bool on_or_beyond = pl.side < 0 ? i <= pl.index : i >= pl.index;
+    if (!on_or_beyond) continue;
+    switch (pl.kind) {
+      case BoundaryKind::fixed:
+        x = y = z = 0.0;
+        break;
+      case BoundaryKind::slip:
+        *v[pl.axis] = 0.0;
+        break;
+      // Symmetry: only the plane itself is constrained; nodes beyond it hold the mirror image.
+      case BoundaryKind::symmetry:
+        if (i == pl.index) *v[pl.axis] = 0.0;
+        break;
+      case BoundaryKind::none:
+      case BoundaryKind::outflow:
+        break;
+    }
+  }
+}
+
+void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
+  auto& N = grid.nodes();
+  constexpr int B = SparseGrid::kBlock;
+  for (int k = 0; k < count_; ++k) {
+    const Plane& pl = planes_[static_cast<std::size_t>(k)];
+    if (pl.kind != BoundaryKind::symmetry) continue;
+    double* mom[3] = {N.px.data(), N.py.data(), N.pz.data()};
+    double* force[3] = {N.fx.data(), N.fy.data(), N.fz.data()};
+    // Visits the ghost nodes within a stencil's reach (3 nodes) of the plane together with
+    // their partner nodes; the pass functor gets (ghost, partner) global node indices.
+    auto for_ghosts = [&](auto&& pass) {
+      for (std::uint32_t b = 0; b < grid.blocks(); ++b) {
+        const SparseGrid::Coord c = grid.coord(b);
+        const std::int64_t bc[3] = {c.x, c.y, c.z};
+        const std::int64_t lo = bc[pl.axis] * B;
+        if (lo + B - 1 < pl.index - 3 || lo > pl.index + 3) continue;
+        for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
+          const int loc[3] = {l / (B * B), (l / B) % B, l % B};
+          std::int64_t g[3];
+          for (int d = 0; d < 3; ++d) g[d] = bc[d] * B + loc[d];
+          const std::int64_t i = g[pl.axis];
+          const bool ghost = pl.side < 0 ? i < pl.index : i > pl.index;
+          const std::size_t node =
+              std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
+          if (i == pl.index) {
+            // On the plane the mirror cancels the normal component.
+            mom[pl.axis][node] = 0.0;
+            if (mode == kMassMomentumForce) force[pl.axis][node] = 0.0;
+            continue;
+          }
+          if (!ghost || std::abs(i - pl.index) > 3) continue;
+          std::int64_t q[3] = {g[0], g[1], g[2]};
+          q[pl.axis] = 2 * pl.index - i;
+          const std::int64_t pb = grid.find(SparseGrid::key(q[0] >> 2, q[1] >> 2, q[2] >> 2));
+          if (pb < 0) continue;  // no particle reaches the partner: nothing to mirror
+          const std::size_t partner = static_cast<std::size_t>(pb) * SparseGrid::kBlockNodes +
+                                      static_cast<std::size_t>(SparseGrid::local(
+                                          static_cast<int>(q[0] & 3), static_cast<int>(q[1] & 3),
+                                          static_cast<int>(q[2] & 3)));
+          pass(node, partner);
+        }
+      }
+    };
+    // Fold: what the mirror images would add to the partner nodes.
+    for_ghosts([&](std::size_t ghost, std::size_t partner) {
+      if (mode == kMassMomentumForce) N.mass[partner] += N.mass[ghost];
+      for (int d = 0; d < 3; ++d) {
+        const double s = d == pl.axis ? -1.0 : 1.0;
+        mom[d][partner] += s * mom[d][ghost];
+        if (mode == kMassMomentumForce) force[d][partner] += s * force[d][ghost];
+      }
+    });
+    // Ghosts become the mirror image of the completed field.
+    for_ghosts([&](std::size_t ghost, std::size_t partner) {
+      if (mode == kMassMomentumForce) N.mass[ghost] = N.mass[partner];
+      for (int d = 0; d < 3; ++d) {
+        const double s = d == pl.axis ? -1.0 : 1.0;
+        mom[d][ghost] = s * mom[d][partner];
+        if (mode == kMassMomentumForce) force[d][ghost] = s * force[d][partner];
+      }
+    });
+  }
+}
+
+double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt,
+                             double empty_mass) const {
+  auto& N = grid.nodes();
+  const bool constrained = count_ > 0;
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(grid.blocks()), 16), 0.0,
+      [&](const tbb::blocked_range<std::uint32_t>& r, double removed) {
+        for (std::uint32_t b = r.begin(); b < r.end(); ++b) {
+          const SparseGrid::Coord c = grid.coord(b);
+          for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
+            const std::size_t i =
+                std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
+            const double M = N.mass[i];
+            if (M <= empty_mass) {
+              N.px[i] = N.py[i] = N.pz[i] = N.fx[i] = N.fy[i] = N.fz[i] = 0.0;
+              continue;
+            }
+            double fx = N.fx[i] + M * gravity.x();  // Eq. 30, body force
+            double fy = N.fy[i] + M * gravity.y();
+            double fz = N.fz[i] + M * gravity.z();
+            double px = N.px[i], py = N.py[i], pz = N.pz[i];
+            if (constrained) {
+              const std::int64_t g[3] = {std::int64_t{c.x} * 4 + l / 16,
+                                         std::int64_t{c.y} * 4 + (l / 4) % 4,
+                                         std::int64_t{c.z} * 4 + l % 4};
+              const double before = px * px + py * py + pz * pz;
+              constrain(g, px, py, pz);  // step 2
+              constrain(g, fx, fy, fz);  // step 3
+              removed += 0.5 * (before - (px * px + py * py + pz * pz)) / M;
+            }
+            px += fx * dt;  // step 4, Eq. 27
+            py += fy * dt;
+            pz += fz * dt;
+            const double inv_m = 1.0 / M;
+            N.fx[i] = fx * inv_m;
+            N.fy[i] = fy * inv_m;
+            N.fz[i] = fz * inv_m;
+            N.px[i] = px * inv_m;
+            N.py[i] = py * inv_m;
+            N.pz[i] = pz * inv_m;
+          }
+        }
+        return removed;
+      },
+      std::plus<>());
+}
+
+double Boundaries::velocities(SparseGrid& grid, double empty_mass) const {
+  auto& N = grid.nodes();
+  const bool constrained = count_ > 0;
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(grid.blocks()), 16), 0.0,
+      [&](const tbb::blocked_range<std::uint32_t>& r, double removed) {
+        for (std::uint32_t b = r.begin(); b < r.end(); ++b) {
+          const SparseGrid::Coord c = grid.coord(b);
+          for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
+            const std::size_t i =
+                std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
+            const double M = N.mass[i];
+            if (M <= empty_mass) {
+              N.px[i] = N.py[i] = N.pz[i] = 0.0;
+              continue;
+            }
+            double px = N.px[i], py = N.py[i], pz = N.pz[i];
+            if (constrained) {
+              const std::int64_t g[3] = {std::int64_t{c.x} * 4 + l / 16,
+                                         std::int64_t{c.y} * 4 + (l / 4) % 4,
+                                         std::int64_t{c.z} * 4 + l % 4};
+              const double before = px * px + py * py + pz * pz;
+              constrain(g, px, py, pz);
+              removed += 0.5 * (before - (px * px + py * py + pz * pz)) / M;
+            }
+            const double inv_m = 1.0 / M;
+            N.px[i] = px * inv_m;
+            N.py[i] = py * inv_m;
+            N.pz[i] = pz * inv_m;
+          }
+        }
+        return removed;
+      },
+      std::plus<>());
+}
+
+}  // namespace shatter::engine

@@ -1,0 +1,54 @@
+#pragma once
+// Boundary conditions on grid planes (ISSUE engine item 7) and the nodal momentum update
+// (App. A.2 steps 2-4 and 6-7).
+
+#include <array>
+#include <cstdint>
+
+#include "shatter/engine/config.hpp"
+#include "shatter/grid/sparse_grid.hpp"
+
+namespace shatter::engine {
+
+class Boundaries {
+ public:
+  // Throws std::invalid_argument if a face with a condition does not lie on a grid plane.
+  Boundaries(const Domain& domain, double cell_size);
+
+  enum MirrorMode { kMassMomentumForce, kMomentum };
+
+  bool has_outflow() const;
+  bool outside_outflow(const Vec3& x) const;
+
+  // Symmetry planes: makes the nodal fields mirror-symmetric about each plane. Contributions that
+  // particles made to nodes beyond the plane are what their mirror images would have made to the
+  // partner nodes, so they are folded in (normal components with flipped sign); the ghost nodes
+  // then take the mirror of the completed field. A half model then sees exactly the field of the
+  // full symmetric model.
+  void mirror(SparseGrid& grid, MirrorMode mode) const;
+
+  // Steps 2-4: gravity, constraints on momentum and force, P^{n+1/2} = P^{n-1/2} + F dt^n
+  // (Eq. 27). Leaves the nodal acceleration F/M in f* and velocity P^{n+1/2}/M in p*. Returns the
+  // kinetic energy the constraints removed.
+  double integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass) const;
+
+  // Steps 6-7: constraints on the remapped momentum, then v_I = P_I / M_I in p*. Returns the
+  // kinetic energy the constraints removed.
+  double velocities(SparseGrid& grid, double empty_mass) const;
+
+ private:
+  struct Plane {
+    int axis;
+    int side;            // -1: the domain's low face (material at i >= index), +1: high face
+    std::int64_t index;  // node index of the plane along axis
+    BoundaryKind kind;
+  };
+  // Zeroes the constrained components of (x, y, z) at a node; returns which were zeroed.
+  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const;
+
+  std::array<Plane, 6> planes_{};
+  int count_ = 0;
+  Domain domain_;
+};
+
+}  // namespace shatter::engine

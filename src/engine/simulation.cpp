@@ -1,0 +1,617 @@
+#include "shatter/engine/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
+#include "engine/boundaries.hpp"
+#include "engine/stage_graph.hpp"
+#include "mpm/g2p.hpp"
+#include "mpm/p2g.hpp"
+#include "mpm/velocity_gradient.hpp"
+#include "shatter/grid/sparse_grid.hpp"
+
+namespace shatter {
+namespace {
+
+using engine::Access;
+using engine::Resource;
+
+// Grain sizes are fixed (never derived from the thread count) so that every reduction splits
+// the same way, and sums come out bitwise identical with 1 or N threads.
+constexpr std::size_t kParticleGrain = 2048;
+
+template <class F>
+double deterministic_sum(std::size_t n, F&& term) {
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<std::size_t>(0, n, kParticleGrain), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+        for (std::size_t p = r.begin(); p < r.end(); ++p) acc += term(p);
+        return acc;
+      },
+      std::plus<>());
+}
+
+const FieldSet kEngineFields =
+    kPosition | kVelocity | kStress | kStrainIncrement | kSpinIncrement |
+    FieldSet{Field::mass,   Field::volume0,  Field::size0,     Field::rho,
+             Field::energy, Field::pressure, Field::soundspeed};
+
+FieldSet all_fields() {
+  FieldSet s;
+  for (std::size_t i = 0; i < kFieldCount; ++i) s = s.with(static_cast<Field>(i));
+  return s;
+}
+
+}  // namespace
+
+struct Simulation::Impl {
+  Simulation& sim;
+  SparseGrid grid;
+  engine::StageGraph graph;
+  tbb::task_arena arena;
+  std::vector<std::uint64_t> owner_keys;
+  std::vector<std::uint32_t> order;
+  AlignedVector<double> dx, dy, dz, kinetic, potential;
+  AlignedVector<double> bx, by, bz;  // body force per unit mass, when the scene has one
+  engine::Boundaries boundaries;
+  double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
+  double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
+  double empty_mass = 0.0;     // nodes lighter than this are treated as empty
+
+  Impl(Simulation& s, int threads)
+      : sim(s),
+        arena(threads > 0 ? threads : tbb::task_arena::automatic),
+        boundaries(s.config_.domain, s.config_.cell_size) {}
+
+  double inv_h() const { return 1.0 / sim.config_.cell_size; }
+
+  template <class Shape>
+  void build_stages();
+  template <class Shape>
+  void sort();
+  template <class Shape>
+  void p2g(bool with_force);
+  void grid_update();
+  template <class Shape>
+  void g2p();
+  template <class Shape>
+  void remap();
+  template <class Shape>
+  void velocity_gradient();
+  void constitutive();
+  void advance_positions();
+  void outflow();
+  void energy();
+  void time_step();
+  double stable_dt();
+  void check_finite() const;
+};
+
+Simulation::Simulation(SolverConfig config, ParticleStore particles,
+                       std::vector<MaterialPtr> materials, int threads)
+    : config_(std::move(config)),
+      particles_(std::move(particles)),
+      materials_(std::move(materials)),
+      threads_(threads) {
+  if (!(config_.cell_size > 0.0) || !std::isfinite(config_.cell_size)) {
+    throw std::invalid_argument(
+        fmt::format("solver: cell_size must be > 0, got {}", config_.cell_size));
+  }
+  if (!(config_.cfl > 0.0 && config_.cfl <= 1.0)) {
+    throw std::invalid_argument(
+        fmt::format("solver: cfl must be in (0, 1] (Eq. 34), got {}", config_.cfl));
+  }
+  for (const Field f :
+       {Field::x, Field::y, Field::z, Field::vx, Field::vy, Field::vz, Field::mass, Field::rho}) {
+    if (!particles_.has(f)) {
+      throw std::invalid_argument(fmt::format("particles lack the '{}' column", name_of(f)));
+    }
+  }
+  if (particles_.size() == 0) throw std::invalid_argument("the scene has no particles");
+  for (const Group& g : particles_.groups()) {
+    if (g.material < 0 || static_cast<std::size_t>(g.material) >= materials_.size() ||
+        !materials_[static_cast<std::size_t>(g.material)]) {
+      throw std::invalid_argument(fmt::format("particle group uses material {} but {} are defined",
+                                              g.material, materials_.size()));
+    }
+  }
+  if (!particles_.has(Field::size0)) {
+    // uGIMP needs the undeformed particle size; without one, take the spacing of a cubic lattice
+    // of the particle's volume.
+    particles_.require(Field::size0);
+    auto s = particles_.col(Field::size0);
+    auto m = particles_.col(Field::mass);
+    auto r = particles_.col(Field::rho);
+    for (std::size_t p = 0; p < particles_.size(); ++p) s[p] = std::cbrt(m[p] / r[p]);
+  }
+  particles_.require(kEngineFields);
+  particles_.require(IField::id);
+  for (const auto& m : materials_) particles_.require(m->fields());
+  for (const Group& g : particles_.groups()) {
+    materials_[static_cast<std::size_t>(g.material)]->initialise(particles_, g.range);
+  }
+
+  impl_ = std::make_unique<Impl>(*this, threads);
+  const auto masses = particles_.col(Field::mass);
+  impl_->empty_mass = 1e-12 * *std::min_element(masses.begin(), masses.end());
+
+  impl_->arena.execute([&] {
+    switch (config_.shape) {
+      case ShapeKind::linear:
+        impl_->build_stages<kernels::LinearShape>();
+        break;
+      case ShapeKind::ugimp:
+        impl_->build_stages<kernels::GimpShape>();
+        break;
+      case ShapeKind::bspline2:
+        impl_->build_stages<kernels::BSpline2Shape>();
+        break;
+    }
+    impl_->check_finite();
+    // Initial energy: v^0 is both the "synchronised" and the stored velocity at t = 0.
+    const auto& P = particles_;
+    const auto m = P.col(Field::mass), e = P.col(Field::energy);
+    const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
+    const auto x = P.col(Field::x), y = P.col(Field::y), z = P.col(Field::z);
+    const Vec3 g = config_.gravity;
+    energy_.kinetic = deterministic_sum(P.size(), [&](std::size_t p) {
+      return 0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]);
+    });
+    energy_.internal = deterministic_sum(P.size(), [&](std::size_t p) { return m[p] * e[p]; });
+    energy_.potential = deterministic_sum(P.size(), [&](std::size_t p) {
+      return -m[p] * (g.x() * x[p] + g.y() * y[p] + g.z() * z[p]);
+    });
+    energy_.initial = energy_.total();
+    energy_.scale = std::abs(energy_.kinetic) + std::abs(energy_.internal);
+    impl_->internal_next = energy_.internal;
+    clock_.dt = impl_->stable_dt();
+  });
+}
+
+Simulation::~Simulation() = default;
+
+std::size_t Simulation::active_blocks() const {
+  return impl_->grid.blocks();
+}
+std::size_t Simulation::grid_bytes() const {
+  return impl_->grid.bytes();
+}
+double Simulation::grid_mass() const {
+  const auto& m = impl_->grid.nodes().mass;
+  return std::accumulate(m.begin(), m.end(), 0.0);
+}
+const std::vector<StageTiming>& Simulation::stage_timings() const {
+  return impl_->graph.timings();
+}
+
+void Simulation::restore(const Clock& clock, const EnergyBudget& energy) {
+  clock_ = clock;
+  energy_ = energy;
+  impl_->internal_next = deterministic_sum(particles_.size(), [&](std::size_t p) {
+    return particles_.col(Field::mass)[p] * particles_.col(Field::energy)[p];
+  });
+}
+
+void Simulation::step() {
+  impl_->dt_step = clock_.dt;
+  impl_->arena.execute([&] { impl_->graph.run(); });
+}
+
+void Simulation::advance_to(double t) {
+  // Steps shorter than this fraction of the stable step are merged into the previous one rather
+  // than taken alone, so output times do not produce sliver steps.
+  constexpr double kSliver = 1e-3;
+  while (clock_.time < t) {
+    const double remaining = t - clock_.time;
+    if (remaining <= kSliver * clock_.dt) {
+      clock_.time = t;
+      break;
+    }
+    if (clock_.dt > remaining) clock_.dt = remaining;
+    step();
+  }
+}
+
+// The MUSL step of App. A.2, one stage per line. Each stage's declaration lists the data it
+// reads and writes; the graph orders the stages from those declarations.
+template <class Shape>
+void Simulation::Impl::build_stages() {
+  const FieldSet all = all_fields();
+  const FieldSet models = [&] {
+    FieldSet s;
+    for (const auto& m : sim.materials_) s = s | m->fields();
+    return s;
+  }();
+  const FieldSet geometry = kPosition | FieldSet{Field::size0};
+  using R = Resource;
+
+  // 1. sort particles by grid block (and re-order the columns every few steps)
+  graph.add({"sort", {geometry, R::kClock}, {all, R::kBlocks}, [this] { sort<Shape>(); }});
+  // 1, 3. scatter mass, momentum and internal force to the grid (Eqs. 29, 32, 33)
+  graph.add({"p2g",
+             {geometry | kVelocity | kStress | FieldSet{Field::mass, Field::rho}, R::kBlocks},
+             {{}, R::kGrid},
+             [this] { p2g<Shape>(true); }});
+  // 2, 3, 4. boundary conditions and the momentum update on the grid (Eq. 27)
+  graph.add({"grid_update", {{}, R::kClock | R::kBlocks}, {{}, R::kGrid | R::kBudget}, [this] {
+               grid_update();
+             }});
+  // 5. particle velocity and displacement from the grid
+  graph.add({"g2p",
+             {geometry | FieldSet{Field::mass}, R::kGrid | R::kBlocks | R::kClock},
+             {kVelocity, R::kDisplacement | R::kMechanical},
+             [this] { g2p<Shape>(); }});
+  // 6. MUSL: updated particle momentum back to the grid, nodal velocity
+  graph.add({"remap",
+             {geometry | kVelocity | FieldSet{Field::mass}, R::kBlocks | R::kBudget},
+             {{}, R::kGrid | R::kBudget},
+             [this] { remap<Shape>(); }});
+  // 7a. strain and spin increments, density (Eqs. 21, 23)
+  graph.add({"velocity_gradient",
+             {geometry, R::kGrid | R::kBlocks | R::kClock},
+             {kStrainIncrement | kSpinIncrement | FieldSet{Field::rho}, 0},
+             [this] { velocity_gradient<Shape>(); }});
+  // 7b. constitutive update per material group (Eqs. 22, 35; EOS, strength, damage)
+  graph.add({"constitutive",
+             {kStrainIncrement | kSpinIncrement | FieldSet{Field::rho, Field::mass}, R::kClock},
+             {kStress | models | FieldSet{Field::energy, Field::pressure, Field::soundspeed}, 0},
+             [this] { constitutive(); }});
+  // positions move only now: steps 6-7 needed the shape functions at x^n
+  graph.add({"advance_positions", {{}, R::kDisplacement}, {kPosition, 0}, [this] {
+               advance_positions();
+             }});
+  if (boundaries.has_outflow()) {
+    graph.add({"outflow", {{}, 0}, {all, R::kBudget}, [this] { outflow(); }});
+  }
+  // energy accounts and the next time step (Eq. 34) are independent: they run concurrently
+  graph.add(
+      {"energy", {FieldSet{Field::mass, Field::energy}, R::kMechanical}, {{}, R::kBudget}, [this] {
+         energy();
+       }});
+  graph.add({"time_step",
+             {kVelocity | kPosition | kStress | FieldSet{Field::soundspeed}, 0},
+             {{}, R::kClock},
+             [this] { time_step(); }});
+  graph.build();
+}
+
+template <class Shape>
+void Simulation::Impl::sort() {
+  ParticleStore& P = sim.particles_;
+  const std::size_t n = P.size();
+  owner_keys.resize(n);
+  for (auto* v : {&dx, &dy, &dz, &kinetic, &potential}) v->resize(n);
+
+  const double ih = inv_h();
+  // First stencil node: floor(xi) for 2-wide stencils, floor(xi - 1/2) for 3-wide ones.
+  const double shift = Shape::kWidth == 3 ? 0.5 : 0.0;
+  const double limit = static_cast<double>(SparseGrid::kMaxBlockCoord * SparseGrid::kBlock);
+  auto compute_keys = [&] {
+    const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t p = r.begin(); p < r.end(); ++p) {
+            std::int64_t b[3];
+            for (int d = 0; d < 3; ++d) {
+              const double xi = X[d][p] * ih - shift;
+              // Out-of-range (or NaN) positions are caught by check_finite below;
+              // clamp so the key stays defined meanwhile.
+              const double c = std::isfinite(xi) ? std::clamp(xi, -limit, limit) : 0.0;
+              b[d] = static_cast<std::int64_t>(std::floor(c)) >> SparseGrid::kBlockBits;
+            }
+            owner_keys[p] = SparseGrid::key(b[0], b[1], b[2]);
+          }
+        });
+  };
+  compute_keys();
+  check_finite();
+
+  const unsigned every = sim.config_.reorder_interval;
+  if (every > 0 && sim.clock_.step % every == 0) {
+    // Physically re-order each material group by block key (stable, so deterministic): the
+    // scatter and gather then stream through memory.
+    order.resize(n);
+    std::iota(order.begin(), order.end(), 0U);
+    for (const Group& g : P.groups()) {
+      std::stable_sort(
+          order.begin() + static_cast<std::ptrdiff_t>(g.range.begin),
+          order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
+          [&](std::uint32_t a, std::uint32_t b) { return owner_keys[a] < owner_keys[b]; });
+    }
+    P.permute(order);
+    std::vector<std::uint64_t> sorted(n);
+    for (std::size_t k = 0; k < n; ++k) sorted[k] = owner_keys[order[k]];
+    owner_keys.swap(sorted);
+  }
+  grid.assign(owner_keys);
+}
+
+template <class Shape>
+void Simulation::Impl::p2g(bool with_force) {
+  ParticleStore& P = sim.particles_;
+  kernels::P2GParticles in{};
+  in.x = P.col(Field::x).data();
+  in.y = P.col(Field::y).data();
+  in.z = P.col(Field::z).data();
+  in.vx = P.col(Field::vx).data();
+  in.vy = P.col(Field::vy).data();
+  in.vz = P.col(Field::vz).data();
+  in.mass = P.col(Field::mass).data();
+  in.rho = P.col(Field::rho).data();
+  in.size0 = P.col(Field::size0).data();
+  in.inv_h = inv_h();
+  if (with_force) {
+    in.sxx = P.col(Field::sxx).data();
+    in.syy = P.col(Field::syy).data();
+    in.szz = P.col(Field::szz).data();
+    in.sxy = P.col(Field::sxy).data();
+    in.syz = P.col(Field::syz).data();
+    in.sxz = P.col(Field::sxz).data();
+    if (sim.config_.body_force) {
+      for (auto* v : {&bx, &by, &bz}) v->assign(P.size(), 0.0);
+      sim.config_.body_force(sim.clock_.time, P, bx.data(), by.data(), bz.data());
+      in.bx = bx.data();
+      in.by = by.data();
+      in.bz = bz.data();
+    }
+    grid.clear_nodes();
+  } else {
+    auto& N = grid.nodes();
+    std::fill(N.px.begin(), N.px.end(), 0.0);
+    std::fill(N.py.begin(), N.py.end(), 0.0);
+    std::fill(N.pz.begin(), N.pz.end(), 0.0);
+  }
+  // Colour by colour: blocks of one colour never share a node (see SparseGrid).
+  for (int c = 0; c < SparseGrid::kColours; ++c) {
+    const auto blocks = grid.colour(c);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          kernels::P2GScratch scratch;
+          for (std::size_t k = r.begin(); k < r.end(); ++k) {
+            const std::uint32_t b = blocks[k];
+            if (with_force) {
+              kernels::p2g_block<Shape, true>(in, grid.owned(b), grid.coord(b), grid.neighbours(b),
+                                              grid.nodes(), scratch);
+            } else {
+              kernels::p2g_block<Shape, false>(in, grid.owned(b), grid.coord(b), grid.neighbours(b),
+                                               grid.nodes(), scratch);
+            }
+          }
+        });
+  }
+}
+
+void Simulation::Impl::grid_update() {
+  const Clock& clk = sim.clock_;
+  const double dt_kick = 0.5 * (clk.dt_prev + dt_step);  // leapfrog dt^n (Fig. 16)
+  boundaries.mirror(grid, engine::Boundaries::kMassMomentumForce);
+  sim.energy_.boundary_work += boundaries.integrate(grid, sim.config_.gravity, dt_kick, empty_mass);
+}
+
+template <class Shape>
+void Simulation::Impl::g2p() {
+  ParticleStore& P = sim.particles_;
+  kernels::G2PParticles in{};
+  in.x = P.col(Field::x).data();
+  in.y = P.col(Field::y).data();
+  in.z = P.col(Field::z).data();
+  in.size0 = P.col(Field::size0).data();
+  in.vx = P.col(Field::vx).data();
+  in.vy = P.col(Field::vy).data();
+  in.vz = P.col(Field::vz).data();
+  in.dx = dx.data();
+  in.dy = dy.data();
+  in.dz = dz.data();
+  in.inv_h = inv_h();
+  in.dt_velocity = 0.5 * (sim.clock_.dt_prev + dt_step);
+  in.dt_position = dt_step;
+  const double* mass = P.col(Field::mass).data();
+  const double half_dt_prev = 0.5 * sim.clock_.dt_prev;
+  const Vec3 g = sim.config_.gravity;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t p = r.begin(); p < r.end(); ++p) {
+          const double v0[3] = {in.vx[p], in.vy[p], in.vz[p]};
+          const std::uint32_t b = grid.owner_of(p);
+          kernels::g2p_particle<Shape>(in, p, grid.coord(b), grid.neighbours(b), grid.nodes());
+          // Velocity at t^n, v^{n-1/2} + a dt^{n-1/2}/2, makes the kinetic energy
+          // time-centred with the internal energy (second-order energy error).
+          const double w = in.dt_velocity > 0 ? half_dt_prev / in.dt_velocity : 0.0;
+          const double vn[3] = {v0[0] + w * (in.vx[p] - v0[0]), v0[1] + w * (in.vy[p] - v0[1]),
+                                v0[2] + w * (in.vz[p] - v0[2])};
+          kinetic[p] = 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
+          potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
+        }
+      });
+}
+
+template <class Shape>
+void Simulation::Impl::remap() {
+  p2g<Shape>(false);
+  boundaries.mirror(grid, engine::Boundaries::kMomentum);
+  sim.energy_.boundary_work += boundaries.velocities(grid, empty_mass);
+}
+
+template <class Shape>
+void Simulation::Impl::velocity_gradient() {
+  ParticleStore& P = sim.particles_;
+  kernels::GradientParticles in{};
+  in.x = P.col(Field::x).data();
+  in.y = P.col(Field::y).data();
+  in.z = P.col(Field::z).data();
+  in.size0 = P.col(Field::size0).data();
+  in.rho = P.col(Field::rho).data();
+  in.exx = P.col(Field::deps_xx).data();
+  in.eyy = P.col(Field::deps_yy).data();
+  in.ezz = P.col(Field::deps_zz).data();
+  in.exy = P.col(Field::deps_xy).data();
+  in.eyz = P.col(Field::deps_yz).data();
+  in.exz = P.col(Field::deps_xz).data();
+  in.wxy = P.col(Field::dspin_xy).data();
+  in.wyz = P.col(Field::dspin_yz).data();
+  in.wxz = P.col(Field::dspin_xz).data();
+  in.inv_h = inv_h();
+  in.dt = dt_step;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                        const std::uint32_t b = grid.owner_of(p);
+                        kernels::velocity_gradient_particle<Shape>(
+                            in, p, grid.coord(b), grid.neighbours(b), grid.nodes());
+                      }
+                    });
+}
+
+void Simulation::Impl::constitutive() {
+  const ConstitutiveContext ctx{dt_step, sim.config_.cell_size, sim.config_.viscosity};
+  for (const Group& g : sim.particles_.groups()) {
+    if (g.range.empty()) continue;
+    sim.materials_[static_cast<std::size_t>(g.material)]->update(sim.particles_, g.range, ctx);
+  }
+}
+
+void Simulation::Impl::advance_positions() {
+  ParticleStore& P = sim.particles_;
+  double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  const double* D[3] = {dx.data(), dy.data(), dz.data()};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (int d = 0; d < 3; ++d) {
+                        for (std::size_t p = r.begin(); p < r.end(); ++p) X[d][p] += D[d][p];
+                      }
+                    });
+}
+
+void Simulation::Impl::outflow() {
+  ParticleStore& P = sim.particles_;
+  std::vector<std::uint8_t> leaving(P.size(), 0);
+  const auto x = P.col(Field::x), y = P.col(Field::y), z = P.col(Field::z);
+  const auto m = P.col(Field::mass), e = P.col(Field::energy);
+  const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
+  const Vec3 g = sim.config_.gravity;
+  double carried = 0.0;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    if (!boundaries.outside_outflow(Vec3(x[p], y[p], z[p]))) continue;
+    leaving[p] = 1;
+    carried += 0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]) + m[p] * e[p] -
+               m[p] * (g.x() * x[p] + g.y() * y[p] + g.z() * z[p]);
+  }
+  if (P.remove_if(leaving) == 0) return;
+  if (P.size() == 0) {
+    throw NumericalError("every particle has left through the outflow boundaries", 0,
+                         sim.clock_.step);
+  }
+  sim.energy_.outflow += carried;
+  // The particles still carry this step's mechanical energy in kinetic[]/potential[]; drop the
+  // departed ones so the energy sum below matches the remaining particles.
+  std::size_t k = 0;
+  for (std::size_t p = 0; p < leaving.size(); ++p) {
+    if (leaving[p]) continue;
+    kinetic[k] = kinetic[p];
+    potential[k] = potential[p];
+    ++k;
+  }
+  kinetic.resize(k);
+  potential.resize(k);
+}
+
+void Simulation::Impl::energy() {
+  ParticleStore& P = sim.particles_;
+  const auto m = P.col(Field::mass), e = P.col(Field::energy);
+  EnergyBudget& E = sim.energy_;
+  E.kinetic = deterministic_sum(kinetic.size(), [&](std::size_t p) { return kinetic[p]; });
+  E.potential = deterministic_sum(potential.size(), [&](std::size_t p) { return potential[p]; });
+  // Internal energy at t^n was summed at the end of the previous step.
+  E.internal = internal_next;
+  internal_next = deterministic_sum(P.size(), [&](std::size_t p) { return m[p] * e[p]; });
+  E.scale = std::max(E.scale, std::abs(E.kinetic) + std::abs(E.internal));
+}
+
+void Simulation::Impl::check_finite() const {
+  const ParticleStore& P = sim.particles_;
+  const std::size_t n = P.size();
+  static constexpr Field kChecked[] = {Field::x,   Field::y,      Field::z,         Field::vx,
+                                       Field::vy,  Field::vz,     Field::sxx,       Field::syy,
+                                       Field::szz, Field::sxy,    Field::syz,       Field::sxz,
+                                       Field::rho, Field::energy, Field::soundspeed};
+  // The first offending particle (lowest index), whatever the thread count.
+  const std::size_t bad = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, kParticleGrain), n,
+      [&](const tbb::blocked_range<std::size_t>& r, std::size_t found) {
+        for (const Field f : kChecked) {
+          const auto c = P.col(f);
+          for (std::size_t p = r.begin(); p < std::min(r.end(), found); ++p) {
+            if (!std::isfinite(c[p])) {
+              found = p;
+              break;
+            }
+          }
+        }
+        return found;
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+  if (bad == n) return;
+  for (const Field f : kChecked) {
+    const double v = P.col(f)[bad];
+    if (!std::isfinite(v)) {
+      const auto ids = P.col(IField::id);
+      throw NumericalError(
+          fmt::format("non-finite {} = {} at particle {} (id {}) at step {}, t = {:.6e} s",
+                      name_of(f), v, bad, ids[bad], sim.clock_.step, sim.clock_.time),
+          bad, sim.clock_.step);
+    }
+  }
+}
+
+double Simulation::Impl::stable_dt() {
+  const ParticleStore& P = sim.particles_;
+  const auto c = P.col(Field::soundspeed);
+  const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
+  // max_p (c_p + |v_p|) of Eq. 34; max is exact, so the reduction order does not matter.
+  const double fastest = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+        for (std::size_t p = r.begin(); p < r.end(); ++p) {
+          acc = std::max(acc, c[p] + std::sqrt(vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]));
+        }
+        return acc;
+      },
+      [](double a, double b) { return std::max(a, b); });
+  const SolverConfig& cfg = sim.config_;
+  if (!(fastest > 0.0)) return cfg.dt_max;  // nothing moves and nothing can: any step is stable
+  return std::min(cfg.cfl * cfg.cell_size / fastest, cfg.dt_max);
+}
+
+void Simulation::Impl::time_step() {
+  check_finite();
+  Clock& clk = sim.clock_;
+  clk.time += dt_step;
+  clk.dt_prev = dt_step;
+  ++clk.step;
+  clk.dt = stable_dt();
+  if (!std::isfinite(clk.dt)) {
+    throw NumericalError(fmt::format("time step is not finite at step {} (no sound speed and no "
+                                     "motion, and no dt_max set)",
+                                     clk.step),
+                         0, clk.step);
+  }
+  if (clk.dt < sim.config_.dt_min) {
+    throw NumericalError(
+        fmt::format(
+            "time step collapsed to {:.3e} s (< dt_min = {:.3e} s) at step {}, t = {:.6e} s",
+            clk.dt, sim.config_.dt_min, clk.step, clk.time),
+        0, clk.step);
+  }
+}
+
+}  // namespace shatter
