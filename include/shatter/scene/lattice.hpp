@@ -1,0 +1,23 @@
+#pragma once
+// Filling a body with material points on a lattice aligned with the background grid (MPM paper
+// Sec. 4.1.1: 2 x 2 x 2 points per cell when the spacing is half the cell size).
+
+#include <vector>
+
+#include "shatter/scene/shapes.hpp"
+
+namespace shatter::scene {
+
+struct LatticeFill {
+  std::vector<Vec3> points;
+  double volume = 0.0;  // volume of shape ∩ kept half-space, measured on the lattice cells
+};
+
+// Points at ((i + 1/2) s, (j + 1/2) s, (k + 1/2) s) that lie inside `shape`, x fastest. With
+// `clip_axis` in {0, 1, 2}, only points with a positive coordinate on that axis are kept (the
+// half model of a symmetry plane through the origin; the plane is a lattice-cell face, so the
+// mirror image of the kept points is exactly the dropped ones). The volume is the sum over
+// lattice cells of the fraction inside the shape, sub-sampled where a cell straddles its surface.
+LatticeFill fill_lattice(const Shape& shape, double spacing, int clip_axis = -1);
+
+}  // namespace shatter::scene

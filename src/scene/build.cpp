@@ -1,0 +1,65 @@
+#include "shatter/scene/build.hpp"
+
+#include <algorithm>
+
+#include "shatter/fracture/flaws.hpp"
+
+namespace shatter::scene {
+
+std::vector<MaterialPtr> build_materials(const Scene& scene) {
+  std::vector<MaterialPtr> materials;
+  for (const BodySpec& b : scene.bodies) materials.push_back(make_material(b.material, b.damage));
+  return materials;
+}
+
+std::vector<bool> damaged_groups(const Scene& scene) {
+  std::vector<bool> d;
+  for (const BodySpec& b : scene.bodies) d.push_back(b.damage.model != "none");
+  return d;
+}
+
+Setup build(const Scene& scene) {
+  Setup s;
+  s.materials = build_materials(scene);
+  s.damaged = damaged_groups(scene);
+
+  ParticleStore& P = s.particles;
+  P.require(FieldSet{Field::x, Field::y, Field::z, Field::vx, Field::vy, Field::vz, Field::mass,
+                     Field::volume0, Field::size0, Field::rho, Field::energy});
+  P.require(IField::id);
+  P.require(IField::body);
+  for (const auto& m : s.materials) P.require(m->fields());
+  if (std::any_of(s.damaged.begin(), s.damaged.end(), [](bool d) { return d; })) {
+    P.require(Field::damage);
+  }
+
+  std::int64_t next_id = 0;
+  for (std::size_t g = 0; g < scene.bodies.size(); ++g) {
+    const BodySpec& b = scene.bodies[g];
+    const auto& pts = b.fill.points;
+    const Range r = P.add_group(static_cast<int>(g), pts.size());
+    const double rho0 = s.materials[g]->reference_density();
+    // Volume-weighted so the body has its true mass (and momentum) whatever the resolution.
+    const double v0 = b.fill.volume / static_cast<double>(pts.size());
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const std::size_t p = r.begin + k;
+      P.col(Field::x)[p] = pts[k].x();
+      P.col(Field::y)[p] = pts[k].y();
+      P.col(Field::z)[p] = pts[k].z();
+      P.col(Field::vx)[p] = b.velocity.x();
+      P.col(Field::vy)[p] = b.velocity.y();
+      P.col(Field::vz)[p] = b.velocity.z();
+      P.col(Field::rho)[p] = rho0;
+      P.col(Field::volume0)[p] = v0;
+      P.col(Field::mass)[p] = rho0 * v0;
+      P.col(Field::size0)[p] = b.spacing;
+      P.col(Field::energy)[p] = b.energy;
+      P.col(IField::id)[p] = next_id++;
+      P.col(IField::body)[p] = static_cast<std::int64_t>(g);
+    }
+    if (b.flaws) initialise_flaws(P, r, *b.flaws);
+  }
+  return s;
+}
+
+}  // namespace shatter::scene

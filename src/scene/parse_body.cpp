@@ -1,0 +1,222 @@
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "scene/parts.hpp"
+#include "shatter/io/suggest.hpp"
+
+namespace shatter::scene {
+namespace {
+
+const std::vector<std::string> kShapeKinds = {"sphere", "ellipsoid", "box", "cylinder", "union"};
+const std::vector<std::string> kBodyKeys = {"shape", "material", "velocity", "spacing",
+                                            "points_per_cell", "energy", "mass", "damage"};
+const std::vector<std::string> kMaterialModelKeys = {"eos", "strength"};
+
+std::vector<std::string> shape_keys(const std::string& kind) {
+  if (kind == "sphere") return {"centre", "radius"};
+  if (kind == "ellipsoid") return {"centre", "semi_axes"};
+  if (kind == "box") return {"lo", "hi"};
+  if (kind == "cylinder") return {"centre", "axis", "radius", "length"};
+  return {"parts"};
+}
+
+// A primitive from `r` (a body table or one element of a union's parts). The centre may be left
+// out when the impact helper places the body; it is then set later.
+Primitive read_primitive(Reader& r, const std::string& kind, bool centre_optional) {
+  auto centre = [&] {
+    if (centre_optional) return Vec3::Zero().eval();
+    return r.vec3("centre");
+  };
+  if (kind == "sphere") {
+    Sphere s;
+    s.centre = centre();
+    s.radius = r.positive("radius", r.number("radius"));
+    return s;
+  }
+  if (kind == "ellipsoid") {
+    Ellipsoid e;
+    e.centre = centre();
+    e.semi_axes = r.vec3("semi_axes");
+    for (int a = 0; a < 3; ++a) r.positive("semi_axes", e.semi_axes[a]);
+    return e;
+  }
+  if (kind == "box") {
+    Box b;
+    b.lo = r.vec3("lo");
+    b.hi = r.vec3("hi");
+    if (!(b.lo.array() < b.hi.array()).all()) r.fail("hi", "must exceed lo on every axis");
+    return b;
+  }
+  Cylinder c;
+  c.centre = centre();
+  const Vec3 axis = r.vec3("axis", Vec3::UnitZ());
+  if (!(axis.norm() > 0.0)) r.fail("axis", "must not be the zero vector");
+  c.axis = axis.normalized();
+  c.radius = r.positive("radius", r.number("radius"));
+  c.length = r.positive("length", r.number("length"));
+  return c;
+}
+
+Shape read_shape(Reader& r, bool placed_by_impact) {
+  const std::string kind = r.choice("shape", "", kShapeKinds);
+  std::vector<std::string> allowed = kBodyKeys;
+  const auto keys = shape_keys(kind);
+  allowed.insert(allowed.end(), keys.begin(), keys.end());
+  r.allow(allowed);
+  r.reject_unknown();
+  if (placed_by_impact) {
+    if (kind != "sphere") r.fail("shape", "the [impact] projectile must be a sphere");
+    if (r.has("centre")) r.fail("centre", "is set by [impact]; remove it here");
+    if (r.has("velocity")) r.fail("velocity", "is set by [impact] (speed); remove it here");
+  }
+  Shape shape;
+  if (kind != "union") {
+    shape.parts.push_back(read_primitive(r, kind, placed_by_impact));
+    return shape;
+  }
+  const toml::node* parts = r.table().get("parts");
+  if (parts == nullptr) r.fail("parts", "is required for a union (an array of shape tables)");
+  const auto* array = parts->as_array();
+  if (array == nullptr || array->empty()) r.fail("parts", "must be a non-empty array of tables");
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    auto* part = const_cast<toml::node*>(array->get(i))->as_table();  // NOLINT: our document
+    if (part == nullptr) r.fail("parts", fmt::format("element {} is not a table", i));
+    Reader p(*part, fmt::format("{}[{}]", r.key_path("parts"), i), r.where("parts"));
+    const std::string pk = p.choice("shape", "", {"sphere", "ellipsoid", "box", "cylinder"});
+    auto pkeys = shape_keys(pk);
+    pkeys.push_back("shape");
+    p.allow(pkeys);
+    p.reject_unknown();
+    shape.parts.push_back(read_primitive(p, pk, false));
+  }
+  return shape;
+}
+
+// The key of `table` an error message from the material library is about (it quotes it), so the
+// error can point at that key's line; empty when none is named.
+std::string key_named_in(const std::string& message, const toml::table& table) {
+  for (const auto& [k, v] : table) {
+    if (message.find(fmt::format("'{}'", k.str())) != std::string::npos) return std::string(k.str());
+  }
+  return {};
+}
+
+MaterialSpec read_material(Reader& body, const MaterialCatalogue& catalogue) {
+  const toml::node* n = body.table().get("material");
+  if (n == nullptr) body.fail("material", "is required but missing (a catalogue name)");
+  toml::table* overrides = n->is_table() ? body.subtable("material") : nullptr;
+  std::string name;
+  std::optional<Reader> r;
+  if (overrides != nullptr) {
+    r.emplace(*overrides, body.key_path("material"), body.where("material"));
+    name = r->string("name");
+  } else {
+    name = body.string("material");
+  }
+  if (!catalogue.contains(name)) {
+    const std::string key = overrides ? "name" : "material";
+    const std::string msg = fmt::format("unknown material '{}'{} (catalogue: {})", name,
+                                        io::did_you_mean(name, catalogue.names()),
+                                        fmt::join(catalogue.names(), ", "));
+    if (r) r->fail(key, msg);
+    body.fail(key, msg);
+  }
+  MaterialSpec spec = catalogue.get(name);
+  if (!r) return spec;
+
+  // Overrides: model names as strings, parameters as numbers; the material library's validator
+  // rejects parameters the models do not know.
+  for (auto&& [k, v] : *overrides) {
+    const std::string key(k.str());
+    if (key == "name") continue;
+    if (key == "eos" || key == "strength") {
+      (key == "eos" ? spec.eos : spec.strength) = r->string(key);
+    } else if (key == "source") {
+      spec.source = r->string(key);
+    } else {
+      spec.params[key] = r->number(key);
+    }
+  }
+  return spec;
+}
+
+double young_modulus(const MaterialSpec& m) {
+  if (m.params.count("young")) return m.params.at("young");
+  if (m.params.count("shear_modulus") && m.params.count("bulk_modulus")) {
+    const double g = m.params.at("shear_modulus"), k = m.params.at("bulk_modulus");
+    return 9.0 * k * g / (3.0 * k + g);
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
+                   const MaterialCatalogue& catalogue, bool placed_by_impact) {
+  BodySpec b;
+  b.name = name;
+  b.where = r.where("shape");
+  b.shape = read_shape(r, placed_by_impact);
+  b.material = read_material(r, catalogue);
+  if (!placed_by_impact) b.velocity = r.vec3("velocity", Vec3::Zero());
+  b.energy = r.non_negative("energy", r.number("energy", 0.0));
+
+  if (r.has("spacing") && r.has("points_per_cell")) {
+    r.fail("points_per_cell", "give spacing or points_per_cell, not both");
+  }
+  if (r.has("spacing")) {
+    b.spacing = r.positive("spacing", r.number("spacing"));
+  } else {
+    const auto ppc = r.integer("points_per_cell", 2);
+    if (ppc < 1) r.fail("points_per_cell", fmt::format("must be >= 1 (got {})", ppc));
+    b.spacing = scene.solver.cell_size / static_cast<double>(ppc);
+  }
+
+  // Mass given: the density changes, the volume stays (MPM paper Table 2, projectile mass).
+  if (auto mass = r.optional_number("mass")) {
+    r.positive("mass", *mass);
+    const double v = b.shape.exact_volume().value_or(fill_lattice(b.shape, b.spacing).volume);
+    b.material.params["rho0"] = *mass / v;
+  }
+  try {
+    validate(b.material);
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    if (toml::table* o = r.subtable("material")) {
+      Reader m(*o, r.key_path("material"), r.where("material"));
+      const std::string k = key_named_in(msg, *o);
+      m.fail(k.empty() ? "name" : k, msg);
+    }
+    r.fail(r.has("mass") && msg.find("rho0") != std::string::npos ? "mass" : "material", msg);
+  }
+
+  toml::table* damage = r.subtable("damage");
+  if (damage != nullptr) {
+    Reader d(*damage, r.key_path("damage"), r.where("damage"));
+    b.damage.model = d.string("model", "none");
+    for (auto&& [k, v] : *damage) {
+      const std::string key(k.str());
+      if (key != "model") b.damage.params[key] = d.number(key);
+    }
+    try {
+      make_material(b.material, b.damage);  // validates the damage model and its parameters
+      if (b.damage.model == "grady_kipp") {
+        b.flaws = flaw_spec_from_params(b.damage.params, young_modulus(b.material));
+        if (!b.damage.params.count("seed")) b.flaws->seed = scene.fracture.seed;
+      }
+    } catch (const std::invalid_argument& e) {
+      const std::string k = key_named_in(e.what(), *damage);
+      d.fail(k.empty() ? "model" : k, e.what());
+    }
+  } else {
+    try {
+      make_material(b.material, b.damage);
+    } catch (const std::invalid_argument& e) {
+      r.fail("material", e.what());
+    }
+  }
+  return b;
+}
+
+}  // namespace shatter::scene

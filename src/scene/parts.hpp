@@ -1,0 +1,42 @@
+#pragma once
+// The pieces of scene parsing, one per section of the file.
+
+#include <optional>
+#include <string>
+
+#include <toml++/toml.h>
+
+#include "scene/reader.hpp"
+#include "shatter/material/catalogue.hpp"
+#include "shatter/scene/scene.hpp"
+
+namespace shatter::scene {
+
+// [solver] and [domain]; fills scene.solver, end_time, symmetry_axis.
+void read_solver(Reader& root, Scene& scene);
+void read_domain(Reader& root, Scene& scene);
+
+// [fracture] and [output].
+void read_fracture(Reader& root, Scene& scene);
+void read_output(Reader& root, Scene& scene);
+
+// The impact helper's inputs, read before the bodies (it places the projectile).
+struct ImpactInput {
+  std::string projectile, target;
+  double speed = 0.0, angle_deg = 0.0, gap = 0.0;
+  Vec3 direction = Vec3::UnitX(), offset = Vec3::UnitY();
+  std::string where_projectile, where_target, where_direction, where_offset;
+};
+std::optional<ImpactInput> read_impact(Reader& root, const Scene& scene);
+
+// One [body.NAME] table. `placed_by_impact` says the [impact] helper sets its centre and velocity.
+BodySpec read_body(Reader& body, const std::string& name, const Scene& scene,
+                   const MaterialCatalogue& catalogue, bool placed_by_impact);
+
+// Places the projectile against the target (MPM paper Fig. 4) and fills it with points.
+void apply_impact(const ImpactInput& in, Scene& scene);
+
+// Fills every body with points and checks them against each other and the domain.
+void fill_and_check_bodies(Scene& scene);
+
+}  // namespace shatter::scene

@@ -1,0 +1,74 @@
+#pragma once
+// Checked access to one TOML table of a scene: every read names its key, every failure throws a
+// SceneError with the file and line of the offending value, unknown keys are errors with a "did
+// you mean" hint, and defaults are written back into the table so that the resolved scene shows
+// every value the run used.
+
+#include <cstdint>
+#include <initializer_list>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+#include <toml++/toml.h>
+
+#include "shatter/scene/scene_error.hpp"
+
+namespace shatter::scene {
+
+// "file:line" for a value, or "command line (--set k=v)" for an override.
+std::string location(const toml::source_region& where);
+
+class Reader {
+ public:
+  Reader(toml::table& table, std::string path, std::string_view fallback_where = {});
+
+  // Declares the keys this table may hold and rejects any other (with the closest allowed key).
+  void allow(std::initializer_list<std::string_view> keys);
+  void allow(const std::vector<std::string>& keys);
+  void reject_unknown() const;
+
+  bool has(std::string_view key) const { return table_->contains(key); }
+  const std::string& path() const { return path_; }
+  std::string key_path(std::string_view key) const;
+  toml::table& table() { return *table_; }
+
+  double number(std::string_view key);  // required
+  double number(std::string_view key, double fallback);
+  std::optional<double> optional_number(std::string_view key);
+  std::int64_t integer(std::string_view key, std::int64_t fallback);
+  bool boolean(std::string_view key, bool fallback);
+  std::string string(std::string_view key);  // required
+  std::string string(std::string_view key, std::string_view fallback);
+  std::optional<std::string> optional_string(std::string_view key);
+  // One of `choices`; an unknown value lists them and suggests the closest.
+  std::string choice(std::string_view key, std::string_view fallback,
+                     const std::vector<std::string>& choices);
+  Eigen::Vector3d vec3(std::string_view key);  // required
+  Eigen::Vector3d vec3(std::string_view key, const Eigen::Vector3d& fallback);
+  std::optional<Eigen::Vector3d> optional_vec3(std::string_view key);
+  // A sub-table; none when absent. An existing non-table value is an error.
+  toml::table* subtable(std::string_view key);
+
+  // Range checks on a value already read; they fail at the key's line.
+  double positive(std::string_view key, double v) const;
+  double non_negative(std::string_view key, double v) const;
+
+  [[noreturn]] void fail(std::string_view key, const std::string& message) const;
+  [[noreturn]] void fail_table(const std::string& message) const;
+  std::string where(std::string_view key) const;
+
+ private:
+  const toml::node* find(std::string_view key) const;
+  const toml::node& require(std::string_view key) const;
+
+  toml::table* table_;
+  std::string path_;
+  std::string fallback_where_;
+  std::vector<std::string> allowed_;
+};
+
+}  // namespace shatter::scene

@@ -1,0 +1,155 @@
+#include "shatter/scene/scene.hpp"
+
+#include <fmt/format.h>
+
+#include "scene/document.hpp"
+#include "scene/parts.hpp"
+#include "shatter/io/columns.hpp"
+
+namespace shatter::scene {
+namespace {
+
+// The columns written when the scene does not list them: what the paper's figures and the
+// fragment search need.
+const std::vector<std::string> kDefaultColumns = {
+    "x", "y", "z", "vx", "vy", "vz", "mass", "volume0", "rho", "energy", "pressure",
+    "damage", "plastic_strain", "sxx", "syy", "szz", "sxy", "syz", "sxz", "id", "body"};
+
+Scene parse(toml::table doc, const std::string& source, const std::vector<std::string>& overrides,
+            const std::filesystem::path& base_dir) {
+  for (const auto& o : overrides) apply_override(doc, o);
+
+  Scene scene;
+  scene.source = source;
+  Reader root(doc, "", source);
+  root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact",
+              "fracture", "output"});
+  root.reject_unknown();
+  scene.name = root.string("name", std::filesystem::path(source).stem().string());
+  scene.description = root.string("description", "-");
+
+  MaterialCatalogue catalogue = MaterialCatalogue::builtin();
+  if (auto file = root.optional_string("catalogue")) {
+    const auto path = std::filesystem::absolute(base_dir / *file);
+    try {
+      catalogue = MaterialCatalogue::load(path);
+    } catch (const std::exception& e) {
+      root.fail("catalogue", e.what());
+    }
+    // Absolute in the resolved scene, so a resumed run finds it from anywhere.
+    doc.insert_or_assign("catalogue", path.string());
+  }
+
+  read_solver(root, scene);
+  read_domain(root, scene);
+  read_fracture(root, scene);
+  const auto impact = read_impact(root, scene);
+
+  toml::table* bodies = root.subtable("body");
+  if (bodies == nullptr || bodies->empty()) {
+    root.fail("body", "at least one body is required ([body.NAME] with shape and material)");
+  }
+  for (auto&& [key, node] : *bodies) {
+    const std::string name(key.str());
+    auto* t = node.as_table();
+    if (t == nullptr) {
+      Reader b(*bodies, "body");
+      b.fail(name, "must be a table ([body." + name + "])");
+    }
+    Reader b(*t, "body." + name, location(key.source()));
+    const bool placed = impact && impact->projectile == name;
+    scene.bodies.push_back(read_body(b, name, scene, catalogue, placed));
+  }
+  if (impact) apply_impact(*impact, scene);
+  fill_and_check_bodies(scene);
+  read_output(root, scene);
+  scene.resolved = to_toml(doc);
+  return scene;
+}
+
+}  // namespace
+
+std::size_t Scene::particle_count() const {
+  std::size_t n = 0;
+  for (const auto& b : bodies) n += b.fill.points.size();
+  return n;
+}
+
+void read_fracture(Reader& root, Scene& scene) {
+  toml::table* t = root.subtable("fracture");
+  if (t == nullptr) {
+    root.table().insert("fracture", toml::table{});
+    t = root.subtable("fracture");
+  }
+  Reader r(*t, "fracture", root.where("fracture"));
+  r.allow({"seed", "threshold", "fragment_method", "fragment_cell"});
+  r.reject_unknown();
+  const auto seed = r.integer("seed", 1);
+  if (seed < 0) r.fail("seed", "must be >= 0");
+  scene.fracture.seed = static_cast<std::uint64_t>(seed);
+  scene.fracture.threshold = r.number("threshold", 0.9);
+  if (!(scene.fracture.threshold > 0.0 && scene.fracture.threshold <= 1.0)) {
+    r.fail("threshold", fmt::format("must be in (0, 1] (got {})", scene.fracture.threshold));
+  }
+  scene.fracture.search.method =
+      r.choice("fragment_method", "grid_density", {"grid_density", "friends_of_friends"});
+  scene.fracture.search.damage_threshold = scene.fracture.threshold;
+  scene.fracture.search.cell_size = r.non_negative("fragment_cell", r.number("fragment_cell", 0.0));
+}
+
+void read_output(Reader& root, Scene& scene) {
+  toml::table* t = root.subtable("output");
+  if (t == nullptr) {
+    root.table().insert("output", toml::table{});
+    t = root.subtable("output");
+  }
+  Reader r(*t, "output", root.where("output"));
+  r.allow({"directory", "snapshot_every", "columns", "checkpoint_every", "timeseries_every",
+           "progress_every", "fragments"});
+  r.reject_unknown();
+  OutputSpec& o = scene.output;
+  o.directory = r.string("directory", "out/" + scene.name);
+  o.snapshot_every = r.non_negative("snapshot_every", r.number("snapshot_every", scene.end_time / 10));
+  o.checkpoint_every = r.non_negative("checkpoint_every", r.number("checkpoint_every", 0.0));
+  o.timeseries_every = r.integer("timeseries_every", 10);
+  if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");
+  o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));
+  o.fragments = r.boolean("fragments", true);
+
+  const toml::node* c = r.table().get("columns");
+  if (c == nullptr || (c->is_string() && c->as_string()->get() == "default")) {
+    o.columns = kDefaultColumns;
+    if (c == nullptr) r.table().insert("columns", "default");
+  } else if (c->is_string() && c->as_string()->get() == "all") {
+    o.columns.clear();
+  } else if (const auto* a = c->as_array()) {
+    for (const auto& e : *a) {
+      if (!e.is_string()) r.fail("columns", "must be \"default\", \"all\" or an array of names");
+      o.columns.push_back(e.as_string()->get());
+    }
+    try {
+      io::select_columns(o.columns);
+    } catch (const std::invalid_argument& e) {
+      r.fail("columns", e.what());
+    }
+    for (const char* axis : {"x", "y", "z"}) {
+      if (std::find(o.columns.begin(), o.columns.end(), axis) == o.columns.end()) {
+        r.fail("columns", fmt::format("must include '{}' (the XDMF geometry)", axis));
+      }
+    }
+  } else {
+    r.fail("columns", "must be \"default\", \"all\" or an array of column names");
+  }
+}
+
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  return parse(load_document(file), file.string(), overrides, file.parent_path());
+}
+
+Scene parse_scene(std::string_view text, const std::string& source,
+                  const std::vector<std::string>& overrides,
+                  const std::filesystem::path& base_dir) {
+  return parse(parse_document(text, source, base_dir), source, overrides, base_dir);
+}
+
+}  // namespace shatter::scene

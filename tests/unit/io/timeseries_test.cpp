@@ -1,0 +1,103 @@
+#include "shatter/io/timeseries.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <vector>
+
+#include "sample_store.hpp"
+#include "scratch_dir.hpp"
+
+namespace shatter::io {
+namespace {
+
+using test::sample_store;
+using test::ScratchDir;
+
+std::vector<std::string> lines(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+TimeSeriesRow row(std::uint64_t step, double t) {
+  TimeSeriesRow r;
+  r.step = step;
+  r.time = t;
+  r.dt = 1e-9;
+  r.energy.kinetic = 2.0;
+  r.energy.internal = 1.0;
+  r.energy.initial = 3.0;
+  r.energy.scale = 3.0;
+  r.failure_ratio = 0.25;
+  return r;
+}
+
+TEST(TimeSeries, HeaderNamesEveryQuantityWithItsUnit) {
+  const std::string h(timeseries_header());
+  for (const char* col : {"time_s", "dt_s", "kinetic_J", "internal_J", "total_J",
+                          "energy_error", "px_kg_m_per_s", "py_kg_m_per_s", "pz_kg_m_per_s",
+                          "failure_ratio"}) {
+    EXPECT_NE(h.find(col), std::string::npos) << col;
+  }
+}
+
+TEST(TimeSeries, OneRowPerSampleWithTotalAndError) {
+  ScratchDir dir;
+  {
+    TimeSeriesWriter w(dir / "ts.csv");
+    w.write(row(0, 0.0));
+    TimeSeriesRow r = row(10, 1e-6);
+    r.energy.kinetic = 2.5;  // total 3.5 against 3.0 initial, scale 3.0: error 1/6
+    w.write(r);
+  }
+  const auto l = lines(dir / "ts.csv");
+  ASSERT_EQ(l.size(), 3u);
+  EXPECT_EQ(l[0], timeseries_header());
+  EXPECT_EQ(l[2].substr(0, 3), "10,");
+  EXPECT_NE(l[2].find(",3.5,"), std::string::npos) << l[2];
+  EXPECT_NE(l[2].find(",0.166666667,"), std::string::npos) << l[2];
+}
+
+TEST(TimeSeries, ResumeDropsRowsWrittenAfterTheCheckpoint) {
+  ScratchDir dir;
+  {
+    TimeSeriesWriter w(dir / "ts.csv");
+    for (int k = 0; k < 5; ++k) w.write(row(static_cast<std::uint64_t>(k), 1e-6 * k));
+  }
+  std::ofstream(dir / "ts.csv", std::ios::app) << "5,0.0000";  // torn line from a crash
+  {
+    TimeSeriesWriter w(dir / "ts.csv", 2e-6);
+    w.write(row(3, 3e-6));
+  }
+  const auto l = lines(dir / "ts.csv");
+  ASSERT_EQ(l.size(), 5u);  // header, steps 0 1 2, then the resumed step 3
+  EXPECT_EQ(l[3].substr(0, 2), "2,");
+  EXPECT_EQ(l[4].substr(0, 2), "3,");
+}
+
+TEST(TimeSeries, MomentumIsTheMassWeightedVelocitySum) {
+  ParticleStore s = sample_store(2, 1);
+  Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+  for (std::size_t p = 0; p < s.size(); ++p) {
+    expected += s.col(Field::mass)[p] *
+                Eigen::Vector3d(s.col(Field::vx)[p], s.col(Field::vy)[p], s.col(Field::vz)[p]);
+  }
+  EXPECT_EQ(total_momentum(s), expected);
+}
+
+TEST(TimeSeries, FailureRatioCountsOnlyFlaggedGroupsAtOrAboveThreshold) {
+  ParticleStore s = sample_store(4, 4);
+  const double d[] = {0.0, 0.9, 0.95, 0.89, 1.0, 1.0, 1.0, 1.0};
+  for (std::size_t p = 0; p < 8; ++p) s.col(Field::damage)[p] = d[p];
+  const bool first_only[] = {true, false};
+  EXPECT_DOUBLE_EQ(failure_ratio(s, 0.9, first_only), 0.5);  // 0.9 counts as failed
+  const bool both[] = {true, true};
+  EXPECT_DOUBLE_EQ(failure_ratio(s, 0.9, both), 6.0 / 8.0);
+  const bool none[] = {false, false};
+  EXPECT_EQ(failure_ratio(s, 0.9, none), 0.0);
+}
+
+}  // namespace
+}  // namespace shatter::io

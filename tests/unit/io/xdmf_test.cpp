@@ -1,0 +1,91 @@
+#include "shatter/io/xdmf.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "sample_store.hpp"
+#include "scratch_dir.hpp"
+#include "shatter/io/snapshot.hpp"
+
+namespace shatter::io {
+namespace {
+
+using test::sample_store;
+using test::ScratchDir;
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1)) ++n;
+  return n;
+}
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(Xdmf, SeriesListsEverySnapshotAsATimeStepWithEveryColumn) {
+  ScratchDir dir;
+  std::filesystem::create_directories(dir / "snapshots");
+  const ParticleStore store = sample_store();
+  const ColumnSelection cols = all_columns(store);
+  XdmfSeries series(dir / "particles.xmf");
+  for (int k = 0; k < 3; ++k) {
+    const auto file = dir / "snapshots" / fmt::format("snapshot_{:06d}.h5", k);
+    write_snapshot(file, store, {1e-6 * k, static_cast<std::uint64_t>(10 * k), "v"}, cols);
+    series.add(file);
+  }
+  const std::string doc = slurp(dir / "particles.xmf");
+
+  EXPECT_EQ(count(doc, "CollectionType=\"Temporal\""), 1u);
+  EXPECT_EQ(count(doc, "<Time Value="), 3u);
+  EXPECT_NE(doc.find("<Time Value=\"2e-06\" />"), std::string::npos) << doc;
+  EXPECT_EQ(count(doc, "TopologyType=\"Polyvertex\" NumberOfElements=\"8\""), 3u);
+  EXPECT_EQ(count(doc, "GeometryType=\"X_Y_Z\""), 3u);
+  // Every real and integer column is an attribute of every time step.
+  for (const auto& name : cols.names()) {
+    EXPECT_EQ(count(doc, "<Attribute Name=\"" + name + "\""), 3u) << name;
+  }
+  EXPECT_NE(doc.find("snapshots/snapshot_000001.h5:/particles/vx"), std::string::npos);
+  EXPECT_NE(doc.find("NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">"
+                     "snapshots/snapshot_000002.h5:/particles/id"),
+            std::string::npos);
+  EXPECT_NE(doc.find("<Information Name=\"units\" Value=\"m/s\" />"), std::string::npos);
+  // Balanced elements: a truncated or malformed document would not be.
+  EXPECT_EQ(count(doc, "<Grid "), 4u);
+  EXPECT_EQ(count(doc, "</Grid>"), 4u);
+  EXPECT_EQ(count(doc, "<Attribute "), count(doc, "</Attribute>"));
+  EXPECT_NE(doc.find("</Xdmf>"), std::string::npos);
+}
+
+TEST(Xdmf, RebuildKeepsSnapshotsUpToTheResumeTimeInTimeOrder) {
+  ScratchDir dir;
+  const ParticleStore store = sample_store();
+  std::vector<std::filesystem::path> files;
+  for (int k : {2, 0, 1}) {
+    files.push_back(dir / fmt::format("s{}.h5", k));
+    write_snapshot(files.back(), store, {1.0 * k, 0, ""}, all_columns(store));
+  }
+  XdmfSeries series(dir / "p.xmf");
+  series.rebuild(files, 1.0);
+  ASSERT_EQ(series.entries().size(), 2u);
+  EXPECT_EQ(series.entries()[0].file, "s0.h5");
+  EXPECT_EQ(series.entries()[1].file, "s1.h5");
+}
+
+TEST(Xdmf, SnapshotWithoutPositionsCannotBeDescribed) {
+  XdmfEntry e;
+  e.file = "a.h5";
+  e.particles = 1;
+  e.columns = select_columns({"x", "y", "damage"});
+  EXPECT_THROW(xdmf_document({e}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace shatter::io
