@@ -4,10 +4,11 @@
 // no branches on values, so it vectorises. Used for the largest tensile stress of MPM paper
 // Eq. 18 / BA95 Eq. 21 and for the BA95 Sec. 4.4 static-strength pre-pass.
 //
-// Accuracy: the largest and smallest values are accurate to a few ulp of the tensor's norm; near
-// a double root acos loses relative accuracy in the angle, but cos(acos(r)/3) is smooth at
-// r = +-1, so the eigenvalues themselves stay within a few ulp of the norm (checked in
-// tests/unit/fracture/principal_test.cpp against Eigen's iterative solver).
+// Accuracy: going through the invariants (det, J2) costs accuracy where two eigenvalues nearly
+// coincide: the error is about eps ||A|| min(||A|| / gap, eps^-1/2), i.e. ~1e-14 ||A|| for
+// well-separated values and at worst ~1e-8 ||A|| at an exact double root (acos near -1). For
+// Eq. 18 this is irrelevant: a relative error of 1e-8 in sigma_max changes n_act by m_p x 1e-8.
+// Checked in tests/unit/fracture/principal_test.cpp against Eigen's iterative solver.
 
 #include <numbers>
 
