@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 #include "fracture/cell_grid.hpp"
 #include "shatter/fracture/fragments.hpp"
