@@ -22,7 +22,9 @@ inline ViscousTerm<T> artificial_viscosity(const T& tr_deps, double inv_dt, doub
                                            const T& c, double c_linear, double c_quadratic) {
   using simd::vmax;
   const T d = vmax(-tr_deps * inv_dt, T(0.0));  // compression rate
-  const T lin = c_linear * c;
+  // Both terms vanish on expansion (d = 0), the linear one through the select: a material that
+  // is not being compressed has no viscosity and no extra signal speed.
+  const T lin = simd::vselect(d > 0.0, c_linear * c, T(0.0));
   const T quad = c_quadratic * h * d;
   return {rho * h * d * (lin + quad), 2.0 * (lin + quad)};
 }

@@ -127,12 +127,14 @@ class ComposedKernel {
       strength::jaumann_trial(s, de, w, strength_.elastic.G);
     }
 
-    // 2. Energy predictor. rho^n from the engine's rho^{n+1} = rho^n / (1 + tr deps); the work
-    // is referred to the mid-step density.
+    // 2. Energy predictor. The engine sets rho^{n+1} = rho^n / (1 + tr deps), i.e. the volume
+    // grows by tr(deps) V^n, so the work per unit mass is deps : sigma V^n / m = deps : sigma /
+    // rho^n: with this density the energy change matches the engine's volume change exactly
+    // (for a gas, dE = -p dV/m with no O(tr deps) bias).
     const T tr = de[0] + de[1] + de[2];
-    const T rho_mid = 0.5 * rho * (2.0 + tr);
+    const T rho_old = rho * (1.0 + tr);
     const T w_old = double_contraction(de, sig_old);
-    const T e_trial = e_old + w_old / rho_mid;
+    const T e_trial = e_old + w_old / rho_old;
 
     // 3. EOS (Eqs. 8-12).
     const auto st_eos = eos_.evaluate(rho, e_trial);
@@ -184,7 +186,7 @@ class ComposedKernel {
 
     // 8. Energy corrector: midpoint stress sigma^{n+1/2} = (sigma^n + sigma^{n+1}) / 2.
     const T w_new = double_contraction(de, sig);
-    store_col(c.energy + p, e_old + 0.5 * (w_old + w_new) / rho_mid);
+    store_col(c.energy + p, e_old + 0.5 * (w_old + w_new) / rho_old);
 
     store_col(c.pressure + p, pres);
     store_col(c.soundspeed + p, cp + av.speed);
