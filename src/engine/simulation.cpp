@@ -122,6 +122,24 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
                                               g.material, materials_.size()));
     }
   }
+  {
+    const auto m = particles_.col(Field::mass), r = particles_.col(Field::rho);
+    for (std::size_t p = 0; p < particles_.size(); ++p) {
+      if (!(m[p] > 0.0 && std::isfinite(m[p])) || !(r[p] > 0.0 && std::isfinite(r[p]))) {
+        throw std::invalid_argument(fmt::format(
+            "particle {} has non-physical mass {} kg or density {} kg/m^3 (both must be > 0)", p,
+            m[p], r[p]));
+      }
+    }
+  }
+  if (particles_.has(Field::size0)) {
+    // A zero size would make the uGIMP weights 0/0; such particles get the cubic-lattice size.
+    auto s = particles_.col(Field::size0);
+    for (std::size_t p = 0; p < particles_.size(); ++p) {
+      if (!(s[p] > 0.0))
+        s[p] = std::cbrt(particles_.col(Field::mass)[p] / particles_.col(Field::rho)[p]);
+    }
+  }
   if (!particles_.has(Field::size0)) {
     // uGIMP needs the undeformed particle size; without one, take the spacing of a cubic lattice
     // of the particle's volume.
