@@ -18,8 +18,8 @@ std::vector<bool> damaged_groups(const Scene& scene) {
   return d;
 }
 
-Setup build(const Scene& scene) {
-  Setup s;
+BuiltScene build(const Scene& scene) {
+  BuiltScene s;
   s.materials = build_materials(scene);
   s.damaged = damaged_groups(scene);
 

@@ -10,7 +10,7 @@
 
 namespace shatter::scene {
 
-struct Setup {
+struct BuiltScene {
   ParticleStore particles;
   std::vector<MaterialPtr> materials;  // materials[g] for group g (= body g)
   std::vector<bool> damaged;           // group g has a damage model (counts in the failure ratio)
@@ -25,6 +25,6 @@ std::vector<bool> damaged_groups(const Scene& scene);
 // Creates the particles: positions from the lattice fill, velocity, rho = rho0, energy,
 // volume0 = (measured body volume) / (number of points), mass = rho0 volume0, size0 = spacing,
 // id (0..N-1 over all bodies), body index; flaws for Grady–Kipp bodies.
-Setup build(const Scene& scene);
+BuiltScene build(const Scene& scene);
 
 }  // namespace shatter::scene
