@@ -85,6 +85,24 @@ CellGrid::CellGrid(std::span<const double> x, std::span<const double> y, std::sp
     while (table_[slot] != 0) slot = (slot + 1) & table_mask_;
     table_[slot] = static_cast<std::uint32_t>(c + 1);
   }
+  neighbour_begin_.assign(cells_.size() + 1, 0);
+  neighbours_.reserve(cells_.size() * 27);
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    const std::uint64_t key = cells_[c].key;
+    const auto ix = static_cast<std::int64_t>(key >> 42);
+    const auto iy = static_cast<std::int64_t>((key >> 21) & kMask);
+    const auto iz = static_cast<std::int64_t>(key & kMask);
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const std::int64_t jx = ix + dx, jy = iy + dy, jz = iz + dz;
+          if (jx < 0 || jy < 0 || jz < 0 || jx > kMaxIndex || jy > kMaxIndex || jz > kMaxIndex)
+            continue;
+          const std::int64_t found = find(pack(jx, jy, jz));
+          if (found >= 0) neighbours_.push_back(static_cast<std::uint32_t>(found));
+        }
+    neighbour_begin_[c + 1] = static_cast<std::uint32_t>(neighbours_.size());
+  }
 }
 
 std::int64_t CellGrid::find(std::uint64_t key) const {

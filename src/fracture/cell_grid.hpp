@@ -35,22 +35,11 @@ class CellGrid {
   std::span<const Cell> cells() const { return cells_; }
   std::uint32_t cell_of(std::uint32_t k) const { return cell_of_[k]; }
 
-  // Calls f(cell index) for each occupied cell among the 27 around cell c (c included).
+  // Calls f(cell index) for each occupied cell among the 27 around cell c (c included), from a
+  // table built once, so the hash is probed per cell, not per point.
   template <class F>
   void for_each_neighbour_cell(std::uint32_t c, F&& f) const {
-    const std::uint64_t key = cells_[c].key;
-    const auto ix = static_cast<std::int64_t>(key >> 42);
-    const auto iy = static_cast<std::int64_t>((key >> 21) & kMask);
-    const auto iz = static_cast<std::int64_t>(key & kMask);
-    for (std::int64_t dx = -1; dx <= 1; ++dx)
-      for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const std::int64_t jx = ix + dx, jy = iy + dy, jz = iz + dz;
-          if (jx < 0 || jy < 0 || jz < 0 || jx > kMaxIndex || jy > kMaxIndex || jz > kMaxIndex)
-            continue;
-          const std::int64_t found = find(pack(jx, jy, jz));
-          if (found >= 0) f(static_cast<std::uint32_t>(found));
-        }
+    for (std::uint32_t i = neighbour_begin_[c]; i < neighbour_begin_[c + 1]; ++i) f(neighbours_[i]);
   }
 
   static constexpr std::int64_t kMaxIndex = (std::int64_t{1} << 21) - 1;
@@ -66,7 +55,9 @@ class CellGrid {
   std::vector<std::uint32_t> order_;
   std::vector<std::uint32_t> cell_of_;
   std::vector<Cell> cells_;
-  std::vector<std::uint32_t> table_;  // cell index + 1; 0 = empty
+  std::vector<std::uint32_t> table_;            // cell index + 1; 0 = empty
+  std::vector<std::uint32_t> neighbour_begin_;  // CSR offsets into neighbours_, per cell
+  std::vector<std::uint32_t> neighbours_;
   std::uint64_t table_mask_ = 0;
 };
 

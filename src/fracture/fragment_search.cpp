@@ -77,13 +77,36 @@ std::int64_t grow_components(const Cloud& cloud, const std::vector<std::uint8_t>
 void attach(const Cloud& cloud, const std::vector<std::uint8_t>& eligible,
             std::vector<std::int64_t>& label, int levels) {
   const auto n = static_cast<std::uint32_t>(label.size());
+  // Nearest labelled friend of j (ties: lower label); kNone if j touches no labelled point.
+  const auto nearest_label = [&](std::uint32_t j) {
+    double best = std::numeric_limits<double>::infinity();
+    std::int64_t chosen = kNone;
+    cloud.for_each_friend(j, [&](std::uint32_t i) {
+      if (label[i] == kNone) return;
+      const double d2 = cloud.dist2(i, j);
+      if (d2 < best || (d2 == best && label[i] < chosen)) {
+        best = d2;
+        chosen = label[i];
+      }
+    });
+    return chosen;
+  };
+  // Level 1 scans the eligible points (usually far fewer than the labelled ones).
   std::vector<std::uint32_t> frontier;
-  for (std::uint32_t k = 0; k < n; ++k)
-    if (label[k] != kNone) frontier.push_back(k);
+  std::vector<std::int64_t> chosen;
+  for (std::uint32_t j = 0; j < n; ++j) {
+    if (!eligible[j] || label[j] != kNone) continue;
+    const std::int64_t l = nearest_label(j);
+    if (l != kNone) {
+      frontier.push_back(j);
+      chosen.push_back(l);
+    }
+  }
+  for (std::size_t c = 0; c < frontier.size(); ++c) label[frontier[c]] = chosen[c];
+  // Later levels grow from the points added by the previous one.
   std::vector<std::uint8_t> queued(n, 0);
   std::vector<std::uint32_t> candidates;
-  std::vector<std::int64_t> chosen;
-  for (int level = 0; level < levels && !frontier.empty(); ++level) {
+  for (int level = 1; level < levels && !frontier.empty(); ++level) {
     candidates.clear();
     for (std::uint32_t k : frontier)
       cloud.for_each_friend(k, [&](std::uint32_t j) {
@@ -92,19 +115,8 @@ void attach(const Cloud& cloud, const std::vector<std::uint8_t>& eligible,
           candidates.push_back(j);
         }
       });
-    chosen.assign(candidates.size(), kNone);
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      const std::uint32_t j = candidates[c];
-      double best = std::numeric_limits<double>::infinity();
-      cloud.for_each_friend(j, [&](std::uint32_t i) {
-        if (label[i] == kNone) return;
-        const double d2 = cloud.dist2(i, j);
-        if (d2 < best || (d2 == best && label[i] < chosen[c])) {
-          best = d2;
-          chosen[c] = label[i];
-        }
-      });
-    }
+    chosen.resize(candidates.size());
+    for (std::size_t c = 0; c < candidates.size(); ++c) chosen[c] = nearest_label(candidates[c]);
     for (std::size_t c = 0; c < candidates.size(); ++c) label[candidates[c]] = chosen[c];
     frontier.swap(candidates);
   }
