@@ -21,6 +21,7 @@ SnapshotHeader read_header(hid_t file, const std::filesystem::path& path) {
   h.time = h5::get_attr_double(file, "time");
   h.step = h5::get_attr_u64(file, "step");
   h.program_version = h5::get_attr_string(file, "program_version");
+  h.symmetry_axis = static_cast<int>(h5::get_attr_u64(file, "symmetry_axis")) - 1;
   return h;
 }
 
@@ -37,6 +38,8 @@ void write_snapshot(const std::filesystem::path& file, const ParticleStore& stor
     h5::set_attr(f.get(), "time_units", std::string_view("s"));
     h5::set_attr(f.get(), "step", header.step);
     h5::set_attr(f.get(), "program_version", header.program_version);
+    // Stored shifted by one so that "none" (-1) fits an unsigned attribute.
+    h5::set_attr(f.get(), "symmetry_axis", static_cast<std::uint64_t>(header.symmetry_axis + 1));
     h5::set_attr(f.get(), "units", std::string_view("SI; see the units attribute of each column"));
     write_particles(f.get(), store, columns);
     if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {

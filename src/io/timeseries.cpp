@@ -74,7 +74,7 @@ Eigen::Vector3d total_momentum(const ParticleStore& store) {
 }
 
 double failure_ratio(const ParticleStore& store, double threshold,
-                     std::span<const bool> counted) {
+                     const std::vector<bool>& counted) {
   if (!store.has(Field::damage)) return 0.0;
   const auto d = store.col(Field::damage);
   std::size_t failed = 0, total = 0;

@@ -53,7 +53,7 @@ std::string xdmf_document(const std::vector<XdmfEntry>& entries) {
     }
     doc += fmt::format("      <Grid Name=\"{}\" GridType=\"Uniform\">\n",
                        xml_escape(std::filesystem::path(e.file).stem().string()));
-    doc += fmt::format("        <Time Value=\"{:.17g}\" />\n", e.time);
+    doc += fmt::format("        <Time Value=\"{}\" />\n", e.time);
     doc += fmt::format(
         "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
         "NodesPerElement=\"1\" />\n",

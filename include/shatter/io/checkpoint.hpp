@@ -18,8 +18,8 @@ namespace shatter::io {
 
 // Where the output schedule stands, so a resumed run writes the same files at the same times.
 struct OutputCursor {
-  std::uint64_t next_snapshot = 0;  // index of the next snapshot file
-  double next_snapshot_time = 0.0;  // s
+  std::uint64_t next_snapshot = 0;    // index of the next snapshot file
+  double next_snapshot_time = 0.0;    // s
   double next_checkpoint_time = 0.0;  // s
 };
 

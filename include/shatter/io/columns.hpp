@@ -13,7 +13,9 @@ namespace shatter::io {
 
 // SI unit of a column as written into file headers and attributes ("1" = dimensionless).
 std::string_view unit_of(Field f);
-constexpr std::string_view unit_of(IField) { return "1"; }
+constexpr std::string_view unit_of(IField) {
+  return "1";
+}
 
 std::optional<Field> field_by_name(std::string_view name);
 std::optional<IField> ifield_by_name(std::string_view name);

@@ -17,6 +17,9 @@ struct SnapshotHeader {
   double time = 0.0;  // s
   std::uint64_t step = 0;
   std::string program_version;
+  // Axis of the symmetry plane through the origin (0, 1, 2; -1 = none): the file holds the
+  // positive half, post-processing mirrors it.
+  int symmetry_axis = -1;
 };
 
 void write_snapshot(const std::filesystem::path& file, const ParticleStore& store,

@@ -91,11 +91,11 @@ TEST(TimeSeries, FailureRatioCountsOnlyFlaggedGroupsAtOrAboveThreshold) {
   ParticleStore s = sample_store(4, 4);
   const double d[] = {0.0, 0.9, 0.95, 0.89, 1.0, 1.0, 1.0, 1.0};
   for (std::size_t p = 0; p < 8; ++p) s.col(Field::damage)[p] = d[p];
-  const bool first_only[] = {true, false};
+  const std::vector<bool> first_only = {true, false};
   EXPECT_DOUBLE_EQ(failure_ratio(s, 0.9, first_only), 0.5);  // 0.9 counts as failed
-  const bool both[] = {true, true};
+  const std::vector<bool> both = {true, true};
   EXPECT_DOUBLE_EQ(failure_ratio(s, 0.9, both), 6.0 / 8.0);
-  const bool none[] = {false, false};
+  const std::vector<bool> none = {false, false};
   EXPECT_EQ(failure_ratio(s, 0.9, none), 0.0);
 }
 

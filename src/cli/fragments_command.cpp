@@ -1,0 +1,40 @@
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+#include "fragments_report.hpp"
+#include "shatter/io/snapshot.hpp"
+
+namespace shatter::cli {
+
+int fragments_command(const std::filesystem::path& snapshot, const FragmentOptions& options) {
+  io::Snapshot s;
+  try {
+    s = io::read_snapshot(snapshot);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return kBadInput;
+  }
+  FragmentSearchSpec spec;
+  if (options.threshold) {
+    if (!(*options.threshold > 0.0 && *options.threshold <= 1.0)) {
+      spdlog::error("--threshold must be in (0, 1] (got {})", *options.threshold);
+      return kBadInput;
+    }
+    spec.damage_threshold = *options.threshold;
+  }
+  if (options.method) spec.method = *options.method;
+  std::filesystem::path prefix = options.prefix.value_or(
+      snapshot.parent_path() / (snapshot.stem().string() + "_fragments"));
+  try {
+    spdlog::info("{}: t = {} s, step {}, {} points", snapshot.string(), s.header.time,
+                 s.header.step, s.particles.size());
+    report_fragments(s.particles, s.header.symmetry_axis, spec, prefix);
+  } catch (const std::logic_error& e) {
+    // A snapshot without the columns the search needs, or an unknown method.
+    spdlog::error("{}: {}", snapshot.string(), e.what());
+    return kBadInput;
+  }
+  return kOk;
+}
+
+}  // namespace shatter::cli

@@ -1,0 +1,101 @@
+// shatter: run, resume and post-process MPM impact simulations.
+
+#include <CLI/CLI.hpp>
+#include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+
+#ifndef SHATTER_VERSION
+#define SHATTER_VERSION "unknown"
+#endif
+
+namespace {
+
+void setup_logging(bool quiet, const std::string& log_file) {
+  std::vector<spdlog::sink_ptr> sinks;
+  auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
+  console->set_level(quiet ? spdlog::level::warn : spdlog::level::info);
+  sinks.push_back(console);
+  if (!log_file.empty()) {
+    auto file = std::make_shared<spdlog::sinks::basic_file_sink_mt>(log_file, true);
+    file->set_level(spdlog::level::debug);
+    sinks.push_back(file);
+  }
+  auto logger = std::make_shared<spdlog::logger>("shatter", sinks.begin(), sinks.end());
+  logger->set_level(spdlog::level::debug);
+  logger->set_pattern("[%H:%M:%S] %^%l%$ %v");
+  spdlog::set_default_logger(logger);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace shatter::cli;
+  CLI::App app{"shatter: MPM shock physics for hypervelocity impacts on rock and asteroids"};
+  app.set_version_flag("--version", std::string("shatter ") + SHATTER_VERSION);
+  app.require_subcommand(1);
+
+  bool quiet = false;
+  std::string log_file;
+  RunOptions run_options;
+  std::string out_dir;
+
+  auto add_run_flags = [&](CLI::App* cmd) {
+    cmd->add_option("--out", out_dir, "run directory (default: the scene's output.directory)");
+    cmd->add_option("--threads", run_options.threads, "worker threads (0 = all cores)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--set", run_options.sets, "override a scene key: dotted.key=value")
+        ->take_all();
+    cmd->add_flag("--quiet", quiet, "only warnings and errors");
+    cmd->add_option("--log", log_file, "also write the log to this file");
+  };
+
+  std::string scene_file;
+  CLI::App* run = app.add_subcommand("run", "run a scene");
+  run->add_option("SCENE", scene_file, "scene file (TOML)")->required();
+  run->add_flag("--overwrite", run_options.overwrite, "replace a previous run in the directory");
+  add_run_flags(run);
+
+  std::string checkpoint;
+  CLI::App* resume = app.add_subcommand("resume", "continue a run from its checkpoint");
+  resume->add_option("CHECKPOINT", checkpoint, "checkpoint file (run directory/checkpoint.h5)")
+      ->required();
+  add_run_flags(resume);
+
+  std::string snapshot;
+  FragmentOptions fragment_options;
+  double threshold = 0.0;
+  std::string method, prefix;
+  CLI::App* fragments = app.add_subcommand("fragments", "find fragments in a snapshot");
+  fragments->add_option("SNAPSHOT", snapshot, "snapshot file (HDF5)")->required();
+  auto* threshold_opt =
+      fragments->add_option("--threshold", threshold, "damage at which a point has failed");
+  auto* method_opt = fragments->add_option("--method", method, "grid_density | friends_of_friends");
+  auto* prefix_opt = fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.pkdgrav");
+  fragments->add_flag("--quiet", quiet, "only warnings and errors");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kOk : kBadInput;
+  }
+  setup_logging(quiet, log_file);
+  if (!out_dir.empty()) run_options.out = out_dir;
+
+  try {
+    if (run->parsed()) return run_command(scene_file, run_options);
+    if (resume->parsed()) return resume_command(checkpoint, run_options);
+    if (fragments->parsed()) {
+      if (threshold_opt->count() > 0) fragment_options.threshold = threshold;
+      if (method_opt->count() > 0) fragment_options.method = method;
+      if (prefix_opt->count() > 0) fragment_options.prefix = prefix;
+      return fragments_command(snapshot, fragment_options);
+    }
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return kFailure;
+  }
+  return kOk;
+}

@@ -1,0 +1,77 @@
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+#include "run_loop.hpp"
+#include "shatter/io/checkpoint.hpp"
+#include "shatter/scene/build.hpp"
+
+namespace shatter::cli {
+namespace {
+
+// A resumed run continues bit for bit only if the physics is unchanged: only the end time and
+// the output settings may be overridden.
+bool allowed_on_resume(const std::string& assignment) {
+  return assignment.rfind("output.", 0) == 0 || assignment.rfind("solver.end_time=", 0) == 0;
+}
+
+}  // namespace
+
+int resume_command(const std::filesystem::path& file, const RunOptions& options) {
+  for (const auto& o : options.sets) {
+    if (!allowed_on_resume(o)) {
+      spdlog::error("--set {}: a resumed run may change only solver.end_time and output.* (the "
+                    "rest would break the bit-for-bit continuation)",
+                    o);
+      return kBadInput;
+    }
+  }
+  io::Checkpoint c;
+  scene::Scene s;
+  std::vector<MaterialPtr> materials;
+  try {
+    c = io::read_checkpoint(file);
+    s = scene::parse_scene(c.state.scene_text, file.string() + " (scene)", options.sets);
+    materials = scene::build_materials(s);
+  } catch (const scene::SceneError& e) {
+    spdlog::error("{}", e.what());
+    return kBadInput;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return kBadInput;
+  }
+  if (c.state.clock.time >= s.end_time) {
+    spdlog::error("{} is at t = {} s, not before the end time {} s (raise it with --set "
+                  "solver.end_time=...)",
+                  file.string(), c.state.clock.time, s.end_time);
+    return kBadInput;
+  }
+  const std::filesystem::path out =
+      options.out.value_or(file.has_parent_path() ? file.parent_path() : ".");
+  spdlog::info("resuming {} from {} at t = {} s, step {} ({} points)", s.name, file.string(),
+               c.state.clock.time, c.state.clock.step, c.particles.size());
+
+  std::optional<Simulation> sim;
+  try {
+    sim.emplace(s.solver, std::move(c.particles), materials, options.threads);
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("{}: {}", file.string(), e.what());
+    return kBadInput;
+  }
+  sim->restore(c.state.clock, c.state.energy);
+
+  RunSpec spec;
+  spec.scene = &s;
+  spec.out = out;
+  spec.damaged = scene::damaged_groups(s);
+  spec.resumed = true;
+  spec.cursor = c.state.cursor;
+  if (!options.sets.empty()) {
+    // The output cadence may have changed: restart the schedule from here.
+    spec.cursor.next_checkpoint_time =
+        s.output.checkpoint_every > 0 ? c.state.clock.time + s.output.checkpoint_every
+                                      : std::numeric_limits<double>::infinity();
+  }
+  return run_loop(*sim, spec);
+}
+
+}  // namespace shatter::cli

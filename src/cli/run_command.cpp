@@ -1,0 +1,101 @@
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+#include "run_loop.hpp"
+#include "shatter/io/atomic_file.hpp"
+#include "shatter/scene/build.hpp"
+
+#ifndef SHATTER_VERSION
+#define SHATTER_VERSION "unknown"
+#endif
+
+namespace shatter::cli {
+namespace {
+
+// Files a run writes; --overwrite removes exactly these, nothing else in the directory.
+bool holds_a_run(const std::filesystem::path& out) {
+  return std::filesystem::exists(out / "scene.toml") || std::filesystem::exists(checkpoint_path(out)) ||
+         std::filesystem::exists(snapshot_dir(out));
+}
+
+void clear_run(const std::filesystem::path& out) {
+  std::filesystem::remove_all(snapshot_dir(out));
+  for (const char* name : {"scene.toml", "checkpoint.h5", "checkpoint.h5.tmp", "particles.xmf",
+                           "timeseries.csv", "fragments.csv", "fragments.h5", "fragments.pkdgrav"}) {
+    std::filesystem::remove(out / name);
+  }
+  for (const auto& e : std::filesystem::directory_iterator(out)) {
+    if (e.path().filename().string().rfind("failed_step", 0) == 0) std::filesystem::remove(e.path());
+  }
+}
+
+std::string resolved_header(const std::filesystem::path& scene_file,
+                            const std::vector<std::string>& sets, const scene::Scene& s) {
+  std::string h = fmt::format("# Resolved by shatter {} from {}\n", SHATTER_VERSION,
+                              scene_file.string());
+  for (const auto& o : sets) h += fmt::format("#   --set {}\n", o);
+  for (const auto& b : s.bodies) {
+    h += fmt::format("# body {}: {} points, spacing {} m, volume {:.6g} m^3, velocity [{}, {}, {}] m/s\n",
+                     b.name, b.fill.points.size(), b.spacing, b.fill.volume, b.velocity.x(),
+                     b.velocity.y(), b.velocity.z());
+  }
+  if (s.impact.used) {
+    const auto& c = s.impact.projectile_centre;
+    h += fmt::format("# impact: projectile centre [{}, {}, {}] m, impact point [{}, {}, {}] m\n",
+                     c.x(), c.y(), c.z(), s.impact.impact_point.x(), s.impact.impact_point.y(),
+                     s.impact.impact_point.z());
+  }
+  return h + "\n";
+}
+
+}  // namespace
+
+int run_command(const std::filesystem::path& scene_file, const RunOptions& options) {
+  // Everything that can refuse the input happens before the run directory is touched.
+  scene::Scene s;
+  scene::BuiltScene built;
+  try {
+    s = scene::load_scene(scene_file, options.sets);
+    built = scene::build(s);
+  } catch (const scene::SceneError& e) {
+    spdlog::error("{}", e.what());
+    return kBadInput;
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("{}: {}", scene_file.string(), e.what());
+    return kBadInput;
+  }
+  const std::filesystem::path out = options.out.value_or(s.output.directory);
+  if (std::filesystem::exists(out) && holds_a_run(out) && !options.overwrite) {
+    spdlog::error("{} already holds a run; pass --overwrite to replace it or --out for another "
+                  "directory",
+                  out.string());
+    return kBadInput;
+  }
+
+  spdlog::info("scene {} ({}): {} points in {} bodies, end time {} s", s.name, scene_file.string(),
+               s.particle_count(), s.bodies.size(), s.end_time);
+  for (const auto& b : s.bodies) {
+    spdlog::info("  body {}: {} ({} / {}), {} points, spacing {} m", b.name, b.material.name,
+                 b.material.eos, b.material.strength, b.fill.points.size(), b.spacing);
+  }
+  std::optional<Simulation> sim;
+  try {
+    sim.emplace(s.solver, std::move(built.particles), built.materials, options.threads);
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("{}: {}", scene_file.string(), e.what());
+    return kBadInput;
+  }
+
+  std::filesystem::create_directories(out);
+  if (options.overwrite) clear_run(out);
+  io::write_text_atomically(out / "scene.toml", resolved_header(scene_file, options.sets, s) + s.resolved);
+  spdlog::info("output in {}", out.string());
+
+  RunSpec spec;
+  spec.scene = &s;
+  spec.out = out;
+  spec.damaged = built.damaged;
+  return run_loop(*sim, spec);
+}
+
+}  // namespace shatter::cli

@@ -1,0 +1,224 @@
+#include "run_loop.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+#include "fragments_report.hpp"
+#include "progress.hpp"
+#include "shatter/io/columns.hpp"
+#include "shatter/io/snapshot.hpp"
+#include "shatter/io/timeseries.hpp"
+#include "shatter/io/xdmf.hpp"
+
+#ifndef SHATTER_VERSION
+#define SHATTER_VERSION "unknown"
+#endif
+
+namespace shatter::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kNever = std::numeric_limits<double>::infinity();
+
+class Runner {
+ public:
+  Runner(Simulation& sim, const RunSpec& spec)
+      : sim_(sim),
+        spec_(spec),
+        scene_(*spec.scene),
+        series_(spec.out / "particles.xmf"),
+        cursor_(spec.cursor),
+        start_wall_(Clock::now()),
+        steps_at_last_(sim.clock().step),
+        start_time_(sim.time()) {
+    if (scene_.output.columns.empty()) {
+      columns_ = io::all_columns(sim.particles());
+    } else {
+      columns_ = io::registered_subset(io::select_columns(scene_.output.columns), sim.particles());
+    }
+  }
+
+  int run() {
+    std::filesystem::create_directories(snapshot_dir(spec_.out));
+    if (spec_.resumed) {
+      timeseries_.emplace(spec_.out / "timeseries.csv", sim_.time());
+      std::vector<std::filesystem::path> snaps;
+      for (const auto& e : std::filesystem::directory_iterator(snapshot_dir(spec_.out))) {
+        if (e.path().extension() == ".h5" && e.path().stem().string().rfind("snapshot_", 0) == 0) {
+          snaps.push_back(e.path());
+        }
+      }
+      series_.rebuild(snaps, sim_.time());
+    } else {
+      timeseries_.emplace(spec_.out / "timeseries.csv");
+      cursor_.next_snapshot = 0;
+      cursor_.next_snapshot_time = 0.0;
+      cursor_.next_checkpoint_time =
+          scene_.output.checkpoint_every > 0 ? scene_.output.checkpoint_every : kNever;
+      write_row();
+    }
+    try {
+      loop();
+    } catch (const NumericalError& e) {
+      return post_mortem(e);
+    }
+    finish();
+    return kOk;
+  }
+
+ private:
+  void loop() {
+    const double end = scene_.end_time;
+    if (cursor_.next_snapshot_time <= sim_.time()) snapshot();
+    while (sim_.time() < end) {
+      const double target = std::min({cursor_.next_snapshot_time, cursor_.next_checkpoint_time, end});
+      while (sim_.time() < target) {
+        // Plain steps until the next one would pass the output time; advance_to then shortens
+        // the last step to land on it.
+        if (sim_.time() + sim_.clock().dt >= target) {
+          sim_.advance_to(target);
+        } else {
+          sim_.step();
+        }
+        if (sim_.clock().step % static_cast<std::uint64_t>(scene_.output.timeseries_every) == 0) {
+          write_row();
+        }
+        progress();
+      }
+      if (sim_.time() >= cursor_.next_snapshot_time) snapshot();
+      if (sim_.time() >= cursor_.next_checkpoint_time) {
+        checkpoint();
+        cursor_.next_checkpoint_time += scene_.output.checkpoint_every;
+      }
+    }
+  }
+
+  void finish() {
+    // The last state is always on disk, whatever the cadence.
+    if (last_snapshot_time_ != sim_.time()) snapshot();
+    write_row();
+    cursor_.next_checkpoint_time = kNever;
+    checkpoint();
+    timeseries_->flush();
+    const double wall = seconds_since_start();
+    spdlog::info("finished: t = {}, {} steps, {:.1f} s wall, energy error {:.3e}",
+                 format_time(sim_.time()), sim_.clock().step, wall, sim_.energy().error());
+    if (scene_.output.fragments && sim_.particles().has(Field::damage)) {
+      report_fragments(sim_.particles(), scene_.symmetry_axis, scene_.fracture.search,
+                       spec_.out / "fragments");
+    }
+  }
+
+  void snapshot() {
+    const auto file =
+        snapshot_dir(spec_.out) / fmt::format("snapshot_{:06d}.h5", cursor_.next_snapshot);
+    io::write_snapshot(file, sim_.particles(),
+                       {sim_.time(), sim_.clock().step, SHATTER_VERSION, scene_.symmetry_axis},
+                       columns_);
+    series_.add(file);
+    last_snapshot_time_ = sim_.time();
+    ++cursor_.next_snapshot;
+    // Times from the index, not by accumulation, so they do not drift.
+    cursor_.next_snapshot_time =
+        scene_.output.snapshot_every > 0
+            ? static_cast<double>(cursor_.next_snapshot) * scene_.output.snapshot_every
+            : kNever;
+    spdlog::debug("snapshot {} at t = {}", file.string(), format_time(sim_.time()));
+  }
+
+  void checkpoint() {
+    io::RunState state;
+    state.clock = sim_.clock();
+    state.energy = sim_.energy();
+    state.cursor = cursor_;
+    state.scene_text = scene_.resolved;
+    state.program_version = SHATTER_VERSION;
+    io::write_checkpoint(checkpoint_path(spec_.out), sim_.particles(), state);
+    timeseries_->flush();
+    spdlog::info("checkpoint at t = {} (step {})", format_time(sim_.time()), sim_.clock().step);
+  }
+
+  double failure_ratio() const {
+    return io::failure_ratio(sim_.particles(), scene_.fracture.threshold, spec_.damaged);
+  }
+
+  void write_row() {
+    io::TimeSeriesRow r;
+    r.step = sim_.clock().step;
+    r.time = sim_.time();
+    r.dt = sim_.clock().dt_prev;
+    r.energy = sim_.energy();
+    r.momentum = io::total_momentum(sim_.particles());
+    r.failure_ratio = failure_ratio();
+    r.wall = seconds_since_start();
+    timeseries_->write(r);
+  }
+
+  void progress() {
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_progress_).count() < scene_.output.progress_every) {
+      return;
+    }
+    const double wall = seconds_since_start();
+    const double done = sim_.time() - start_time_;
+    const double eta = done > 0 ? (scene_.end_time - sim_.time()) / done * wall : kNever;
+    const double rate = static_cast<double>(sim_.clock().step - steps_at_last_) /
+                        std::chrono::duration<double>(now - last_progress_).count();
+    spdlog::info("t = {} / {} | step {} | dt {:.3g} s | {:.0f} steps/s | ETA {} | energy error "
+                 "{:.2e} | failed {:.1f}%",
+                 format_time(sim_.time()), format_time(scene_.end_time), sim_.clock().step,
+                 sim_.clock().dt, rate, format_duration(eta), sim_.energy().error(),
+                 100.0 * failure_ratio());
+    last_progress_ = now;
+    steps_at_last_ = sim_.clock().step;
+  }
+
+  int post_mortem(const NumericalError& e) {
+    const auto file = spec_.out / fmt::format("failed_step{}.h5", e.step());
+    spdlog::error("numerical failure at step {} (t = {}), particle {}: {}", e.step(),
+                  format_time(sim_.time()), e.particle(), e.what());
+    try {
+      io::write_snapshot(file, sim_.particles(),
+                         {sim_.time(), e.step(), SHATTER_VERSION, scene_.symmetry_axis},
+                         io::all_columns(sim_.particles()));
+      spdlog::error("state written for post-mortem: {}", file.string());
+    } catch (const std::exception& w) {
+      spdlog::error("could not write the post-mortem snapshot: {}", w.what());
+    }
+    timeseries_->flush();
+    return kNumerical;
+  }
+
+  double seconds_since_start() const {
+    return std::chrono::duration<double>(Clock::now() - start_wall_).count();
+  }
+
+  Simulation& sim_;
+  const RunSpec& spec_;
+  const scene::Scene& scene_;
+  io::XdmfSeries series_;
+  io::OutputCursor cursor_;
+  io::ColumnSelection columns_;
+  std::optional<io::TimeSeriesWriter> timeseries_;
+  Clock::time_point start_wall_;
+  Clock::time_point last_progress_ = Clock::now();
+  std::uint64_t steps_at_last_;
+  double start_time_ = 0.0;
+  double last_snapshot_time_ = -1.0;
+};
+
+}  // namespace
+
+std::filesystem::path snapshot_dir(const std::filesystem::path& out) { return out / "snapshots"; }
+std::filesystem::path checkpoint_path(const std::filesystem::path& out) {
+  return out / "checkpoint.h5";
+}
+
+int run_loop(Simulation& sim, const RunSpec& spec) { return Runner(sim, spec).run(); }
+
+}  // namespace shatter::cli

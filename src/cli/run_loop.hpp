@@ -1,0 +1,30 @@
+#pragma once
+// The run loop shared by `run` and `resume`: steps the simulation, writes snapshots (with the
+// XDMF sidecar), checkpoints and the time series on their schedules, prints progress, and on a
+// numerical failure writes a post-mortem snapshot.
+
+#include <filesystem>
+#include <vector>
+
+#include "shatter/engine/simulation.hpp"
+#include "shatter/io/checkpoint.hpp"
+#include "shatter/scene/scene.hpp"
+
+namespace shatter::cli {
+
+struct RunSpec {
+  const scene::Scene* scene = nullptr;
+  std::filesystem::path out;
+  std::vector<bool> damaged;  // per group: counts in the failure ratio
+  bool resumed = false;
+  io::OutputCursor cursor;  // where the schedule stands (resume)
+};
+
+// Runs to the scene's end time; returns the exit status.
+int run_loop(Simulation& sim, const RunSpec& spec);
+
+// Paths inside a run directory.
+std::filesystem::path snapshot_dir(const std::filesystem::path& out);
+std::filesystem::path checkpoint_path(const std::filesystem::path& out);
+
+}  // namespace shatter::cli
