@@ -4,28 +4,17 @@
 
 #include <fmt/format.h>
 
-#include "materials/schema.hpp"
-
 namespace shatter::materials {
 
-AnyDamage make_damage(const DamageSpec& spec) {
-  if (spec.model == "none") {
-    if (!spec.params.empty()) {
-      throw std::invalid_argument(fmt::format("damage model 'none' takes no parameters (got '{}')",
-                                              spec.params.begin()->first));
-    }
-    return damage::NoDamage{};
+AnyDamage make_damage(const DamageSpec& spec, double young) {
+  AnyDamage d = damage::make_damage_policy(spec.model, spec.params);
+  if (spec.model != "none" && !(young > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "damage model '{}' needs the material's Young's modulus (Eq. 18): give young and poisson, "
+        "or shear_modulus and bulk_modulus",
+        spec.model));
   }
-  for (auto known : damage_models()) {
-    if (known == spec.model) {
-      throw std::invalid_argument(
-          fmt::format("damage model '{}' is not available in this build of the material library "
-                      "(available: none)",
-                      spec.model));
-    }
-  }
-  throw std::invalid_argument(fmt::format("unknown damage model '{}' (known: {})", spec.model,
-                                          join_names(damage_models())));
+  return d;
 }
 
 }  // namespace shatter::materials

@@ -1,16 +1,16 @@
 #pragma once
-// Damage specs -> damage policies (kernels/damage).
+// Damage specs -> damage policies: the fracture area's factory (kernels/damage/policies.hpp),
+// whose variant the composed model visits to instantiate one kernel per policy type.
 
-#include <variant>
-
-#include "damage/damage_policy.hpp"
+#include "damage/policies.hpp"
 #include "shatter/material/catalogue.hpp"
 
 namespace shatter::materials {
 
-using AnyDamage = std::variant<damage::NoDamage>;
+using AnyDamage = damage::AnyDamage;
 
-// Throws std::invalid_argument for an unknown model, or one whose policy is not available.
-AnyDamage make_damage(const DamageSpec& spec);
+// Throws std::invalid_argument for an unknown model or parameter (never a silent fallback), and
+// for a damage model on a material without Young's modulus (Eq. 18 needs E_Y).
+AnyDamage make_damage(const DamageSpec& spec, double young);
 
 }  // namespace shatter::materials

@@ -11,8 +11,9 @@ namespace shatter {
 
 MaterialPtr make_material(const MaterialSpec& spec, const DamageSpec& damage) {
   validate(spec);
-  const materials::AnyDamage d = materials::make_damage(damage);
   const materials::AnyStrength s = materials::make_strength(spec);
+  const double young = std::visit([](const auto& m) { return m.elastic.young; }, s);
+  const materials::AnyDamage d = materials::make_damage(damage, young);
   return std::visit([&](const auto& e) { return materials::compose(e, s, d, spec.name); },
                     materials::make_eos(spec));
 }

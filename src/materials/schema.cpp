@@ -35,11 +35,6 @@ const std::vector<ModelSchema>& strength_schemas() {
   return k;
 }
 
-const std::vector<std::string_view>& damage_models() {
-  static const std::vector<std::string_view> k = {"none", "grady_kipp", "brittle", "fatigue"};
-  return k;
-}
-
 namespace {
 const ModelSchema* find_in(const std::vector<ModelSchema>& v, std::string_view name) {
   for (const auto& m : v) {

@@ -16,7 +16,6 @@ struct ModelSchema {
 
 const std::vector<ModelSchema>& eos_schemas();
 const std::vector<ModelSchema>& strength_schemas();
-const std::vector<std::string_view>& damage_models();
 
 // nullptr when the name is unknown.
 const ModelSchema* find_eos(std::string_view name);

@@ -1,0 +1,128 @@
+// Constitutive update throughput (App. A.2 step 7) per model combination, scalar reference path
+// against the xsimd path: particles per second (items_per_second) for 1e5 and 1e6 particles.
+
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <vector>
+
+#include "constitutive/composed_kernel.hpp"
+#include "eos/ideal_gas.hpp"
+#include "eos/linear_elastic.hpp"
+#include "eos/mie_gruneisen.hpp"
+#include "eos/tillotson.hpp"
+#include "strength/drucker_prager.hpp"
+#include "strength/elastic.hpp"
+#include "strength/hydro.hpp"
+#include "strength/j2_plasticity.hpp"
+#include "strength/modified_lundborg.hpp"
+#include "xsimd/memory/xsimd_aligned_allocator.hpp"
+
+namespace {
+
+using namespace shatter;
+
+// Columns of a basalt-like block under random small strain increments (some yielding, some in
+// each Tillotson region through a spread of density and energy).
+struct Columns {
+  using Vec = std::vector<double, xsimd::aligned_allocator<double, 64>>;
+  Vec data[22];
+  constitutive::ConstitutiveColumns c;
+
+  Columns(std::size_t n, double rho0, double e_scale) {
+    std::mt19937_64 rng(1);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (auto& v : data) v.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      data[0][i] = rho0 * (1.0 + 0.2 * u(rng));
+      data[1][i] = 1e-9;
+      data[2][i] = e_scale * (1.0 + u(rng));
+      for (int k = 3; k < 9; ++k) data[k][i] = 1e8 * u(rng);
+      for (int k = 11; k < 17; ++k) data[k][i] = 2e-4 * u(rng);
+      for (int k = 17; k < 20; ++k) data[k][i] = 1e-4 * u(rng);
+    }
+    c.rho = data[0].data();
+    c.mass = data[1].data();
+    c.energy = data[2].data();
+    for (int k = 0; k < 6; ++k) c.stress[k] = data[3 + k].data();
+    c.pressure = data[9].data();
+    c.soundspeed = data[10].data();
+    for (int k = 0; k < 6; ++k) c.deps[k] = data[11 + k].data();
+    for (int k = 0; k < 3; ++k) c.dspin[k] = data[17 + k].data();
+    c.plastic_strain = data[20].data();
+    c.heat = data[21].data();
+  }
+};
+
+const auto kEl = strength::ElasticConstants::from_young_poisson(53.1e9, 0.15);
+const eos::Tillotson kBasalt({2700.0, 26.7e9, 26.7e9, 0.5, 1.5, 487e6, 4.72e6, 18.2e6, 2000.0, 5.0,
+                              5.0});
+
+template <class Kernel>
+void run(benchmark::State& state, const Kernel& k, double rho0, double e_scale) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const bool use_simd = state.range(1) != 0;
+  Columns cols(n, rho0, e_scale);
+  const constitutive::StepParams sp{1e-7, 1e-3, 0.5, 2.0};
+  for (auto _ : state) {
+    k.update(cols.c, 0, n, sp, use_simd);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(n));
+  state.SetLabel(use_simd ? "simd" : "scalar");
+}
+
+void BM_Tillotson_LinearHardening(benchmark::State& s) {
+  const constitutive::ComposedKernel<eos::Tillotson, strength::J2Plasticity, damage::NoDamage> k(
+      kBasalt, {kEl, 3.5e9, 5.31e6}, {});
+  run(s, k, 2700.0, 5e6);
+}
+void BM_Tillotson_ModifiedLundborg(benchmark::State& s) {
+  const constitutive::ComposedKernel<eos::Tillotson, strength::ModifiedLundborg, damage::NoDamage>
+      k(kBasalt, {kEl, 90e6, 1.5, 0.8, 1500e6, 0.256, 3.4e6}, {});
+  run(s, k, 2700.0, 5e6);
+}
+void BM_Tillotson_DruckerPrager(benchmark::State& s) {
+  const constitutive::ComposedKernel<eos::Tillotson, strength::DruckerPrager, damage::NoDamage> k(
+      kBasalt, {kEl, 50e6, 0.6, 0.2, -30e6}, {});
+  run(s, k, 2700.0, 5e6);
+}
+void BM_Tillotson_Hydro(benchmark::State& s) {
+  const constitutive::ComposedKernel<eos::Tillotson, strength::Hydro, damage::NoDamage> k(kBasalt,
+                                                                                          {}, {});
+  run(s, k, 2700.0, 5e6);
+}
+void BM_MieGruneisen_Hydro(benchmark::State& s) {
+  const constitutive::ComposedKernel<eos::MieGruneisen, strength::Hydro, damage::NoDamage> k(
+      eos::MieGruneisen({2703.0, 5240.0, 1.4, 1.97}), {}, {});
+  run(s, k, 2703.0, 1e5);
+}
+void BM_LinearElastic_Elastic(benchmark::State& s) {
+  const constitutive::ComposedKernel<eos::LinearElastic, strength::Elastic, damage::NoDamage> k(
+      eos::LinearElastic({2700.0, kEl.K}), {kEl}, {});
+  run(s, k, 2700.0, 0.0);
+}
+void BM_IdealGas_Hydro(benchmark::State& s) {
+  const constitutive::ComposedKernel<eos::IdealGas, strength::Hydro, damage::NoDamage> k(
+      eos::IdealGas({1.0, 1.4}), {}, {});
+  run(s, k, 1.0, 2.5);
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  for (int64_t n : {100000, 1000000}) {
+    for (int64_t simd : {0, 1}) b->Args({n, simd});
+  }
+  b->ArgNames({"n", "simd"})->Unit(benchmark::kMillisecond);
+}
+
+BENCHMARK(BM_Tillotson_LinearHardening)->Apply(sizes);
+BENCHMARK(BM_Tillotson_ModifiedLundborg)->Apply(sizes);
+BENCHMARK(BM_Tillotson_DruckerPrager)->Apply(sizes);
+BENCHMARK(BM_Tillotson_Hydro)->Apply(sizes);
+BENCHMARK(BM_MieGruneisen_Hydro)->Apply(sizes);
+BENCHMARK(BM_LinearElastic_Elastic)->Apply(sizes);
+BENCHMARK(BM_IdealGas_Hydro)->Apply(sizes);
+
+}  // namespace
+
+BENCHMARK_MAIN();
