@@ -1,0 +1,90 @@
+// The elastic constitutive part of the step (App. A.2 step 7): the velocity-gradient stage
+// (kernels::velocity_gradient_particle: strain and spin increments, density) and the engine's
+// linear elastic model (LinearElastic::update: Jaumann rotation, Hooke increment, energy,
+// pressure, sound speed), each alone.
+#include <memory>
+
+#include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
+
+#include "shatter/material/linear_elastic.hpp"
+#include "support/stages.hpp"
+
+namespace {
+
+using namespace shatter;
+
+template <class Shape>
+void BM_VelocityGradient(benchmark::State& state) {
+  bench::Prepared<Shape> body(state.range(0));
+  ParticleStore& P = body.store;
+  const SparseGrid& grid = body.grid;
+  kernels::GradientParticles in{};
+  in.x = P.col(Field::x).data();
+  in.y = P.col(Field::y).data();
+  in.z = P.col(Field::z).data();
+  in.size0 = P.col(Field::size0).data();
+  in.rho = P.col(Field::rho).data();
+  in.exx = P.col(Field::deps_xx).data();
+  in.eyy = P.col(Field::deps_yy).data();
+  in.ezz = P.col(Field::deps_zz).data();
+  in.exy = P.col(Field::deps_xy).data();
+  in.eyz = P.col(Field::deps_yz).data();
+  in.exz = P.col(Field::deps_xz).data();
+  in.wxy = P.col(Field::dspin_xy).data();
+  in.wyz = P.col(Field::dspin_yz).data();
+  in.wxz = P.col(Field::dspin_xz).data();
+  in.inv_h = 1.0 / bench::kCell;
+  in.dt = 1e-12;  // repeated density updates stay at rho0
+  tbb::task_arena arena(static_cast<int>(state.range(1)));
+  arena.execute([&] {
+    for (auto _ : state) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), bench::kParticleGrain),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                            const std::uint32_t b = grid.owner_of(p);
+                            kernels::velocity_gradient_particle<Shape>(
+                                in, p, grid.coord(b), grid.neighbours(b), grid.nodes());
+                          }
+                        });
+      benchmark::ClobberMemory();
+    }
+  });
+  bench::report(state, P, grid.bytes());
+  state.counters["col_bytes_rw"] = 8.0 * 14;  // x, size0, rho (rw), 9 increments
+}
+
+void BM_ElasticUpdate(benchmark::State& state) {
+  ParticleStore P = bench::make_body(state.range(0));
+  const LinearElastic model(bench::kRho, bench::kYoung, bench::kPoisson);
+  model.initialise(P, P.groups()[0].range);
+  // Small, non-zero strain and spin increments.
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const double s = 1e-12 * static_cast<double>(p % 7);
+    P.col(Field::deps_xx)[p] = s;
+    P.col(Field::deps_yy)[p] = -0.5 * s;
+    P.col(Field::deps_xy)[p] = 0.3 * s;
+    P.col(Field::dspin_xy)[p] = 0.2 * s;
+    P.col(Field::dspin_xz)[p] = -0.1 * s;
+  }
+  const ConstitutiveContext ctx{1e-7, bench::kCell, {}};
+  tbb::task_arena arena(static_cast<int>(state.range(1)));
+  arena.execute([&] {
+    for (auto _ : state) {
+      for (const Group& g : P.groups()) model.update(P, g.range, ctx);
+      benchmark::ClobberMemory();
+    }
+  });
+  bench::report(state, P, 0);
+  // stress (rw), 6 strain + 3 spin increments, rho, energy (rw), pressure, sound speed
+  state.counters["col_bytes_rw"] = 8.0 * 20;
+}
+
+}  // namespace
+
+BENCHMARK(BM_VelocityGradient<kernels::GimpShape>)
+    ->Name("velocity_gradient/ugimp")
+    ->Apply(bench::sizes_and_threads);
+BENCHMARK(BM_ElasticUpdate)->Name("elastic_update")->Apply(bench::sizes_and_threads);
+
+BENCHMARK_MAIN();

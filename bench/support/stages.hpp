@@ -1,0 +1,95 @@
+#pragma once
+// The engine's stage loops over the kernels of kernels/mpm, written as Simulation::Impl runs
+// them (src/engine/simulation.cpp: same grains, same colour-by-colour scatter), so that a stage
+// can be timed alone on a prepared SparseGrid.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "bodies.hpp"
+#include "mpm/g2p.hpp"
+#include "mpm/p2g.hpp"
+#include "mpm/velocity_gradient.hpp"
+
+namespace shatter::bench {
+
+inline constexpr std::size_t kParticleGrain = 2048;  // as the engine
+
+inline kernels::P2GParticles p2g_inputs(ParticleStore& P, bool with_force) {
+  kernels::P2GParticles in{};
+  in.x = P.col(Field::x).data();
+  in.y = P.col(Field::y).data();
+  in.z = P.col(Field::z).data();
+  in.vx = P.col(Field::vx).data();
+  in.vy = P.col(Field::vy).data();
+  in.vz = P.col(Field::vz).data();
+  in.mass = P.col(Field::mass).data();
+  in.rho = P.col(Field::rho).data();
+  in.size0 = P.col(Field::size0).data();
+  in.inv_h = 1.0 / kCell;
+  if (with_force) {
+    in.sxx = P.col(Field::sxx).data();
+    in.syy = P.col(Field::syy).data();
+    in.szz = P.col(Field::szz).data();
+    in.sxy = P.col(Field::sxy).data();
+    in.syz = P.col(Field::syz).data();
+    in.sxz = P.col(Field::sxz).data();
+  }
+  return in;
+}
+
+// P2G (kForce) or the MUSL remap's momentum-only scatter (!kForce), as Simulation::Impl::p2g.
+template <class Shape, bool kForce>
+void scatter(const kernels::P2GParticles& in, SparseGrid& grid) {
+  if constexpr (kForce) {
+    grid.clear_nodes();
+  } else {
+    auto& N = grid.nodes();
+    std::fill(N.px.begin(), N.px.end(), 0.0);
+    std::fill(N.py.begin(), N.py.end(), 0.0);
+    std::fill(N.pz.begin(), N.pz.end(), 0.0);
+  }
+  for (int c = 0; c < SparseGrid::kColours; ++c) {
+    const auto blocks = grid.colour(c);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        kernels::P2GScratch scratch;
+                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                          const std::uint32_t b = blocks[k];
+                          kernels::p2g_block<Shape, kForce>(in, grid.owned(b), grid.coord(b),
+                                                            grid.neighbours(b), grid.nodes(),
+                                                            scratch);
+                        }
+                      });
+  }
+}
+
+// Turns the scattered grid into what G2P and the velocity gradient read (acceleration in f*,
+// velocity in p*), without the engine's boundary code: a plain divide by the nodal mass.
+inline void nodal_velocities(SparseGrid& grid) {
+  auto& N = grid.nodes();
+  for (std::size_t i = 0; i < N.mass.size(); ++i) {
+    const double inv_m = N.mass[i] > 0.0 ? 1.0 / N.mass[i] : 0.0;
+    N.px[i] *= inv_m, N.py[i] *= inv_m, N.pz[i] *= inv_m;
+    N.fx[i] *= inv_m, N.fy[i] *= inv_m, N.fz[i] *= inv_m;
+  }
+}
+
+// A prepared body: store sorted by owner block, grid assigned and scattered.
+template <class Shape>
+struct Prepared {
+  ParticleStore store;
+  SparseGrid grid;
+  explicit Prepared(std::int64_t n) : store(make_body(n)) {
+    const auto keys = sort_by_block<Shape>(store);
+    grid.assign(keys);
+    scatter<Shape, true>(p2g_inputs(store, true), grid);
+    nodal_velocities(grid);
+  }
+};
+
+}  // namespace shatter::bench
