@@ -52,11 +52,12 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
 
   std::optional<Simulation> sim;
   try {
-    sim.emplace(s.solver, std::move(c.particles), materials, options.threads);
+    sim.emplace(s.solver, ParticleStore(c.particles), materials, options.threads);
   } catch (const std::invalid_argument& e) {
     spdlog::error("{}: {}", file.string(), e.what());
     return kBadInput;
   }
+  io::restore_columns(sim->particles(), c.particles);
   sim->restore(c.state.clock, c.state.energy);
 
   RunSpec spec;

@@ -103,7 +103,7 @@ class Runner {
     if (last_snapshot_time_ != sim_.time()) snapshot();
     write_row();
     cursor_.next_checkpoint_time = kNever;
-    checkpoint();
+    if (last_checkpoint_time_ != sim_.time()) checkpoint();
     timeseries_->flush();
     const double wall = seconds_since_start();
     spdlog::info("finished: t = {}, {} steps, {:.1f} s wall, energy error {:.3e}",
@@ -139,6 +139,7 @@ class Runner {
     state.scene_text = scene_.resolved;
     state.program_version = SHATTER_VERSION;
     io::write_checkpoint(checkpoint_path(spec_.out), sim_.particles(), state);
+    last_checkpoint_time_ = sim_.time();
     timeseries_->flush();
     spdlog::info("checkpoint at t = {} (step {})", format_time(sim_.time()), sim_.clock().step);
   }
@@ -148,6 +149,9 @@ class Runner {
   }
 
   void write_row() {
+    if (last_row_step_ == sim_.clock().step && rows_written_) return;
+    last_row_step_ = sim_.clock().step;
+    rows_written_ = true;
     io::TimeSeriesRow r;
     r.step = sim_.clock().step;
     r.time = sim_.time();
@@ -210,6 +214,9 @@ class Runner {
   std::uint64_t steps_at_last_;
   double start_time_ = 0.0;
   double last_snapshot_time_ = -1.0;
+  double last_checkpoint_time_ = -1.0;
+  std::uint64_t last_row_step_ = 0;
+  bool rows_written_ = false;
 };
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "shatter/io/checkpoint.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -122,6 +123,26 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   c.state.cursor = read_cursor(f.get());
   c.particles = read_particles(f.get());
   return c;
+}
+
+void restore_columns(ParticleStore& live, const ParticleStore& saved) {
+  if (live.size() != saved.size() || live.groups().size() != saved.groups().size()) {
+    throw std::logic_error("restore_columns: the stores hold different particles");
+  }
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    if (!saved.has(f)) continue;
+    live.require(f);
+    const auto src = saved.col(f);
+    std::copy(src.begin(), src.end(), live.col(f).begin());
+  }
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    const auto f = static_cast<IField>(i);
+    if (!saved.has(f)) continue;
+    live.require(f);
+    const auto src = saved.col(f);
+    std::copy(src.begin(), src.end(), live.col(f).begin());
+  }
 }
 
 }  // namespace shatter::io

@@ -46,4 +46,10 @@ void write_checkpoint(const std::filesystem::path& file, const ParticleStore& st
 // Throws std::runtime_error naming the file when it is missing, truncated or not a checkpoint.
 Checkpoint read_checkpoint(const std::filesystem::path& file);
 
+// Copies every column of `saved` into `live` (same particles, same order). The Simulation
+// constructor re-initialises the constitutive state of the particles it is given (stress without
+// the artificial viscosity of the step that wrote it, sound speed, ...); a resumed run puts the
+// checkpointed values back so it continues bit for bit.
+void restore_columns(ParticleStore& live, const ParticleStore& saved);
+
 }  // namespace shatter::io
