@@ -114,6 +114,13 @@ void apply_override(toml::table& doc, const std::string& assignment) {
       t->insert(part, toml::table{});
       next = t->get(part);
     }
+    // A catalogue name stands for the table { name = ... }, so its parameters can be overridden
+    // one by one: --set body.target.material.yield=30e6 on material = "basalt".
+    if (part == "material" && next->is_string()) {
+      const std::string name = next->as_string()->get();
+      t->insert_or_assign(part, toml::table{{"name", name}});
+      next = t->get(part);
+    }
     if (!next->is_table()) {
       throw SceneError(fmt::format("command line ({})", origin), walked,
                        "is a value, not a table, so it has no sub-keys");

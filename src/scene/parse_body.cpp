@@ -183,7 +183,7 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
     validate(b.material);
   } catch (const std::invalid_argument& e) {
     const std::string msg = e.what();
-    if (toml::table* o = r.subtable("material")) {
+    if (toml::table* o = r.table().get("material")->is_table() ? r.subtable("material") : nullptr) {
       Reader m(*o, r.key_path("material"), r.where("material"));
       const std::string k = key_named_in(msg, *o);
       m.fail(k.empty() ? "name" : k, msg);

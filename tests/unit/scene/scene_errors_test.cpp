@@ -110,8 +110,18 @@ TEST(SceneErrors, OverlappingBodiesAreRefused) {
                           "");
   text = with("radius = 3.5e-3", "radius = 3.5e-3\ncentre = [0.008, 0.0, 0.0]", text);
   const std::string msg = error_of(text);
-  expect_names(msg, line_of(text, "shape = \"sphere\"\nradius = 3.5e-3"), "body.projectile");
-  EXPECT_NE(msg.find("overlaps body 'target'"), std::string::npos) << msg;
+  // Bodies are taken in name order; the later one (target) is the one found overlapping.
+  expect_names(msg, line_of(text, "shape = \"sphere\""), "body.target");
+  EXPECT_NE(msg.find("overlaps body 'projectile'"), std::string::npos) << msg;
+}
+
+TEST(SceneErrors, MassBelowTheVaporisationDensityIsRefusedAtTheMassKey) {
+  // 0.175 g in a 7 mm sphere is 974 kg/m^3, below nylon's rho_iv = 1100 (Tillotson needs
+  // rho_iv < rho0).
+  const std::string text = with("material = \"nylon\"", "material = \"nylon\"\nmass = 0.175e-3");
+  const std::string msg = error_of(text);
+  expect_names(msg, line_of(text, "mass = 0.175e-3"), "body.projectile.mass");
+  EXPECT_NE(msg.find("rho_iv"), std::string::npos) << msg;
 }
 
 TEST(SceneErrors, BodyOutsideTheDomainIsRefused) {
