@@ -1,3 +1,6 @@
+#include <cmath>
+#include <limits>
+
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
@@ -67,10 +70,14 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
   spec.resumed = true;
   spec.cursor = c.state.cursor;
   if (!options.sets.empty()) {
-    // The output cadence may have changed: restart the schedule from here.
-    spec.cursor.next_checkpoint_time =
-        s.output.checkpoint_every > 0 ? c.state.clock.time + s.output.checkpoint_every
-                                      : std::numeric_limits<double>::infinity();
+    // The output cadence may have changed: the next multiples of the cadences after now.
+    const double t = c.state.clock.time;
+    auto next_multiple = [t](double every) {
+      if (!(every > 0)) return std::numeric_limits<double>::infinity();
+      return (std::floor(t / every * (1.0 + 1e-12)) + 1.0) * every;
+    };
+    spec.cursor.next_snapshot_time = next_multiple(s.output.snapshot_every);
+    spec.cursor.next_checkpoint_time = next_multiple(s.output.checkpoint_every);
   }
   return run_loop(*sim, spec);
 }

@@ -54,6 +54,15 @@ class Runner {
         }
       }
       series_.rebuild(snaps, sim_.time());
+      // The end time may have been changed on the command line.
+      if (scene_.output.snapshot_every > 0) {
+        cursor_.next_snapshot_time =
+            on_end(cursor_.next_snapshot_time, scene_.output.snapshot_every);
+      }
+      if (scene_.output.checkpoint_every > 0) {
+        cursor_.next_checkpoint_time =
+            on_end(cursor_.next_checkpoint_time, scene_.output.checkpoint_every);
+      }
     } else {
       timeseries_.emplace(spec_.out / "timeseries.csv");
       cursor_.next_snapshot = 0;
@@ -93,7 +102,9 @@ class Runner {
       if (sim_.time() >= cursor_.next_snapshot_time) snapshot();
       if (sim_.time() >= cursor_.next_checkpoint_time) {
         checkpoint();
-        cursor_.next_checkpoint_time += scene_.output.checkpoint_every;
+        cursor_.next_checkpoint_time = on_end(
+            cursor_.next_checkpoint_time + scene_.output.checkpoint_every,
+            scene_.output.checkpoint_every);
       }
     }
   }
@@ -114,6 +125,12 @@ class Runner {
     }
   }
 
+  // An output time that misses the end time by round-off (5 x 1e-6 != 5e-6) is the end time;
+  // otherwise the run would take a sliver step and write the end state twice.
+  double on_end(double t, double cadence) const {
+    return std::abs(t - scene_.end_time) <= 1e-9 * cadence ? scene_.end_time : t;
+  }
+
   void snapshot() {
     const auto file =
         snapshot_dir(spec_.out) / fmt::format("snapshot_{:06d}.h5", cursor_.next_snapshot);
@@ -126,7 +143,8 @@ class Runner {
     // Times from the index, not by accumulation, so they do not drift.
     cursor_.next_snapshot_time =
         scene_.output.snapshot_every > 0
-            ? static_cast<double>(cursor_.next_snapshot) * scene_.output.snapshot_every
+            ? on_end(static_cast<double>(cursor_.next_snapshot) * scene_.output.snapshot_every,
+                     scene_.output.snapshot_every)
             : kNever;
     spdlog::debug("snapshot {} at t = {}", file.string(), format_time(sim_.time()));
   }

@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""Damage and speed on the symmetry-plane cross-section (MPM paper Figs. 6-7).
+
+Usage: plot_cross_section.py RUN_DIR [--times 10e-6 20e-6 ...] [--out FILE.png]
+Points of the layer next to the symmetry plane (or of |z| < spacing for a full model) are drawn;
+damage from 0 to 1, failed (D >= 0.9) as in the paper, and the speed |v| in m/s."""
+
+import argparse
+import os
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+import shatter_plot as sp
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("run_dir")
+    ap.add_argument("--times", type=float, nargs="*", help="snapshot times in s (default: all, at most 5)")
+    ap.add_argument("--out", help="output image (default RUN_DIR/plots/cross_section.png)")
+    a = ap.parse_args()
+
+    files = sp.snapshots(a.run_dir)
+    if a.times:
+        files = [sp.snapshot_at(a.run_dir, t) for t in a.times]
+    elif len(files) > 5:
+        files = [files[i] for i in np.linspace(0, len(files) - 1, 5).round().astype(int)]
+    fig, axes = plt.subplots(2, len(files), figsize=(3.2 * len(files), 6.2), squeeze=False)
+    for k, path in enumerate(files):
+        t, c, axis = sp.read_snapshot(path)
+        normal = "xyz"[axis] if axis >= 0 else "z"
+        plane = [a_ for a_ in "xyz" if a_ != normal]
+        h = np.cbrt(np.median(c["volume0"])) if "volume0" in c else np.ptp(c[normal]) / 50
+        layer = np.abs(c[normal]) < h  # the layer of points next to the plane
+        u, v = c[plane[0]][layer] * 1e3, c[plane[1]][layer] * 1e3
+        damage = c["damage"][layer] if "damage" in c else np.zeros(layer.sum())
+        speed = np.sqrt(c["vx"] ** 2 + c["vy"] ** 2 + c["vz"] ** 2)[layer]
+        s = 4.0
+        im = axes[0][k].scatter(u, v, c=damage, s=s, cmap="inferno", vmin=0, vmax=1)
+        axes[0][k].set_title(f"damage, t = {t * 1e6:.0f} us")
+        im2 = axes[1][k].scatter(u, v, c=speed, s=s, cmap="viridis", vmin=0,
+                                 vmax=np.percentile(speed, 95) if speed.size else 1)
+        axes[1][k].set_title("|v| (m/s)")
+        for ax in (axes[0][k], axes[1][k]):
+            ax.set_aspect("equal")
+            ax.set_xlabel(f"{plane[0]} (mm)")
+            ax.set_ylabel(f"{plane[1]} (mm)")
+        fig.colorbar(im, ax=axes[0][k], shrink=0.8)
+        fig.colorbar(im2, ax=axes[1][k], shrink=0.8)
+    fig.tight_layout()
+    out = a.out or os.path.join(a.run_dir, "plots", "cross_section.png")
+    os.makedirs(os.path.dirname(out) or ".", exist_ok=True)
+    fig.savefig(out, dpi=120)
+    print(out)
+
+
+if __name__ == "__main__":
+    main()
