@@ -1,16 +1,14 @@
 #pragma once
-// Principal values of a symmetric 3x3 tensor in closed form (trigonometric solution of the
-// characteristic cubic, Smith 1961), written once for T = double and T = xsimd::batch<double>:
-// no branches on values, so it vectorises. Used for the largest tensile stress of MPM paper
-// Eq. 18 / BA95 Eq. 21 and for the BA95 Sec. 4.4 static-strength pre-pass.
+// Principal values of a symmetric 3x3 tensor by cyclic Jacobi rotations (Golub & Van Loan,
+// Sec. 8.5), written once for T = double and T = xsimd::batch<double>: a fixed number of sweeps
+// and lane-wise selects, no branch on values, only +, *, /, sqrt — so it vectorises, needs no
+// trigonometric functions, and stays accurate where eigenvalues nearly coincide (the closed-form
+// trigonometric solution loses half the digits there, ~1e-8 ||A||). Used for the largest tensile
+// stress of MPM paper Eq. 18 / BA95 Eq. 21 and the BA95 Sec. 4.4 static-strength pre-pass.
 //
-// Accuracy: going through the invariants (det, J2) costs accuracy where two eigenvalues nearly
-// coincide: the error is about eps ||A|| min(||A|| / gap, eps^-1/2), i.e. ~1e-14 ||A|| for
-// well-separated values and at worst ~1e-8 ||A|| at an exact double root (acos near -1). For
-// Eq. 18 this is irrelevant: a relative error of 1e-8 in sigma_max changes n_act by m_p x 1e-8.
-// Checked in tests/unit/fracture/principal_test.cpp against Eigen's iterative solver.
-
-#include <numbers>
+// Accuracy: cyclic Jacobi converges quadratically; for 3x3 four sweeps reach round-off from any
+// start, the fifth is margin. Error a few eps ||A||, checked in
+// tests/unit/fracture/principal_test.cpp against Eigen's solver.
 
 #include <xsimd/xsimd.hpp>
 
@@ -25,30 +23,46 @@ struct PrincipalValues {
   T s3;  // smallest
 };
 
+namespace detail {
+
+// One rotation in the (p, q) plane that zeroes a_pq (Numerical Recipes' stable form:
+// t = sgn(theta) / (|theta| + sqrt(theta^2 + 1)), theta = (a_qq - a_pp) / (2 a_pq)).
+// r is the third index; a_pr and a_qr rotate with it.
+template <class T>
+inline void jacobi_rotate(T& app, T& aqq, T& apq, T& apr, T& aqr) {
+  const auto active = apq != T(0.0);
+  const T apq_safe = lanes::select(active, apq, T(1.0));
+  const T theta = (aqq - app) / (2.0 * apq_safe);
+  // For |theta| > 1e150, theta^2 would overflow: t -> 1 / (2 theta) there.
+  const T abs_theta = xsimd::abs(theta);
+  const T root = lanes::select(abs_theta < T(1e150), xsimd::sqrt(theta * theta + 1.0), abs_theta);
+  const T sign = lanes::select(theta < T(0.0), T(-1.0), T(1.0));
+  const T t = lanes::select(active, sign / (abs_theta + root), T(0.0));
+  const T c = 1.0 / xsimd::sqrt(t * t + 1.0);
+  const T s = t * c;
+  app = app - t * apq;
+  aqq = aqq + t * apq;
+  apq = T(0.0);
+  const T pr = apr;
+  apr = c * pr - s * aqr;
+  aqr = s * pr + c * aqr;
+}
+
+}  // namespace detail
+
 // s in Voigt order xx, yy, zz, xy, yz, xz.
 template <class T>
 inline PrincipalValues<T> principal_values(const T (&s)[6]) {
-  const T q = (s[0] + s[1] + s[2]) * (1.0 / 3.0);
-  const T a = s[0] - q;
-  const T b = s[1] - q;
-  const T c = s[2] - q;
-  const T xy = s[3];
-  const T yz = s[4];
-  const T xz = s[5];
-  const T off = xy * xy + yz * yz + xz * xz;
-  // p^2 = tr(dev^2)/6: the spread of the eigenvalues about their mean q.
-  const T p = xsimd::sqrt((a * a + b * b + c * c + 2.0 * off) * (1.0 / 6.0));
-  const T det = a * (b * c - yz * yz) - xy * (xy * c - yz * xz) + xz * (xy * yz - b * xz);
-  // An isotropic tensor (p = 0) has a triple root; any angle gives s1 = s2 = s3 = q then.
-  const auto spread = p > T(1e-100);
-  const T p_safe = lanes::select(spread, p, T(1.0));
-  const T r = lanes::select(spread, det / (2.0 * p_safe * p_safe * p_safe), T(0.0));
-  // Round-off can push |r| slightly above 1, outside acos's domain.
-  const T phi = xsimd::acos(xsimd::max(T(-1.0), xsimd::min(T(1.0), r))) * (1.0 / 3.0);
-  const T s1 = q + 2.0 * p * xsimd::cos(phi);
-  const T s3 = q + 2.0 * p * xsimd::cos(phi + (2.0 * std::numbers::pi / 3.0));
-  const T s2 = 3.0 * q - s1 - s3;
-  return {s1, s2, s3};
+  T a00 = s[0], a11 = s[1], a22 = s[2], a01 = s[3], a12 = s[4], a02 = s[5];
+  for (int sweep = 0; sweep < 5; ++sweep) {
+    detail::jacobi_rotate(a00, a11, a01, a02, a12);  // (0,1), third index 2
+    detail::jacobi_rotate(a00, a22, a02, a01, a12);  // (0,2), third index 1
+    detail::jacobi_rotate(a11, a22, a12, a01, a02);  // (1,2), third index 0
+  }
+  const T hi = xsimd::max(a00, xsimd::max(a11, a22));
+  const T lo = xsimd::min(a00, xsimd::min(a11, a22));
+  const T mid = xsimd::max(xsimd::min(a00, a11), xsimd::min(xsimd::max(a00, a11), a22));
+  return {hi, mid, lo};
 }
 
 template <class T>

@@ -134,10 +134,10 @@ TEST(GradyKipp, OptionsChooseRsAndSoundSpeed) {
 }
 
 TEST(GradyKipp, SimdLanesEqualScalarPath) {
-  // Random tensile and compressive states, damage and flaws. xsimd's exp/log/cbrt/acos differ
-  // from libm by a few ulp; n_act = exp(m_p ln ratio) amplifies an argument error by |m_p ln
-  // ratio| <= 50 here, and the eigenvalue by m_p x (conditioning, principal.hpp). A relative
-  // 1e-11 bound covers that (measured worst below 1e-13).
+  // Random tensile and compressive states, damage and flaws. xsimd's exp/log/cbrt differ from
+  // libm by a few ulp and the eigenvalue by FMA contraction (principal_test.cpp); n_act =
+  // exp(m_p ln ratio) amplifies an argument error by |m_p ln ratio| <= 50 here. A relative 1e-11
+  // bound covers that with margin.
   using B = test::Batch;
   constexpr std::size_t w = B::size;
   std::mt19937_64 rng(3);

@@ -1,4 +1,4 @@
-// Closed-form principal values (kernels/damage/principal.hpp) against Eigen's iterative solver,
+// Principal values by Jacobi rotations (kernels/damage/principal.hpp) against Eigen's solver,
 // and SIMD lanes against the scalar path.
 
 #include <gtest/gtest.h>
@@ -21,8 +21,8 @@ Eigen::Matrix3d matrix_of(const double (&s)[6]) {
   return a;
 }
 
-// Random stress tensors from 1 kPa to 10 GPa plus the degenerate cases where the trigonometric
-// formula is most delicate (triple root, double roots, pure shear, uniaxial).
+// Random stress tensors from 1 kPa to 10 GPa plus degenerate cases (triple root, double roots,
+// pure shear, uniaxial, off-diagonal terms far below the diagonal).
 std::vector<std::array<double, 6>> samples() {
   std::vector<std::array<double, 6>> out = {
       {1e8, 1e8, 1e8, 0, 0, 0},    {0, 0, 0, 0, 0, 0},
@@ -43,19 +43,11 @@ std::vector<std::array<double, 6>> samples() {
 
 constexpr double kEps = 2.220446049250313e-16;
 
-// The closed form goes through det and J2, whose roots are ill-conditioned near a double root:
-// its error is about eps ||A|| min(||A|| / gap, eps^-1/2) (see principal.hpp). 64 times that
-// bound; measured worst over 2e5 random tensors 3e-14 ||A|| (135 ulp at gap/||A|| = 3.6e-4),
-// and 4e-9 ||A|| at the exact double root {-3e9, 1e6, 1e6}.
-double tolerance(const Eigen::Matrix3d& a) {
-  const Eigen::Vector3d ev =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(a, Eigen::EigenvaluesOnly).eigenvalues();
-  const double norm = std::max(a.norm(), 1e-300);
-  const double gap = std::min(ev[2] - ev[1], ev[1] - ev[0]);
-  return 64.0 * kEps * norm * std::min(norm / std::max(gap, 1e-300), 1.0 / std::sqrt(kEps));
-}
+// Jacobi rotations are backward stable: eigenvalues within a few eps ||A|| however close they are
+// (measured worst 7.2 eps ||A|| over 2e5 random tensors and 2e4 rotated near-double roots).
+double tolerance(const Eigen::Matrix3d& a) { return 16.0 * kEps * std::max(a.norm(), 1e-300); }
 
-TEST(PrincipalValues, MatchEigenSolverWithinConditioning) {
+TEST(PrincipalValues, MatchEigenSolverToRoundOffOfTheNorm) {
   for (const auto& arr : samples()) {
     const double s[6] = {arr[0], arr[1], arr[2], arr[3], arr[4], arr[5]};
     const Eigen::Matrix3d a = matrix_of(s);
@@ -72,8 +64,10 @@ TEST(PrincipalValues, MatchEigenSolverWithinConditioning) {
 }
 
 TEST(PrincipalValues, SimdLanesEqualScalarPath) {
-  // xsimd's acos/cos/sqrt differ from libm by a few ulp; the difference is amplified like
-  // round-off (by ||A|| / gap near a double root), so the same conditioning bound applies.
+  // Only +, -, *, /, sqrt (correctly rounded on both paths) and min/max/select; the paths differ
+  // only where GCC contracts a*b+c into an FMA in the scalar code (-ffp-contract=fast is GCC's
+  // default), one rounding per contraction, so both are within the round-off bound of the solver
+  // and of each other: 16 eps ||A||, as against Eigen.
   using B = test::Batch;
   constexpr std::size_t w = B::size;
   const auto all = samples();
