@@ -23,8 +23,8 @@ int fragments_command(const std::filesystem::path& snapshot, const FragmentOptio
     spec.damage_threshold = *options.threshold;
   }
   if (options.method) spec.method = *options.method;
-  std::filesystem::path prefix = options.prefix.value_or(
-      snapshot.parent_path() / (snapshot.stem().string() + "_fragments"));
+  std::filesystem::path prefix =
+      options.prefix.value_or(snapshot.parent_path() / (snapshot.stem().string() + "_fragments"));
   try {
     spdlog::info("{}: t = {} s, step {}, {} points", snapshot.string(), s.header.time,
                  s.header.step, s.particles.size());

@@ -22,9 +22,10 @@ FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_
   write_fragments_csv(cat, with_ext(".csv"));
   write_fragments_hdf5(cat, with_ext(".h5"));
   write_fragments_pkdgrav(cat, with_ext(".pkdgrav"));
-  spdlog::info("{} fragments (D < {}), dust {:.3g} kg of {:.3g} kg{}; written to {}.csv/.h5/.pkdgrav",
-               cat.fragments.size(), spec.damage_threshold, cat.dust_mass, cat.total_mass,
-               symmetry_axis >= 0 ? " (half model mirrored)" : "", prefix.string());
+  spdlog::info(
+      "{} fragments (D < {}), dust {:.3g} kg of {:.3g} kg{}; written to {}.csv/.h5/.pkdgrav",
+      cat.fragments.size(), spec.damage_threshold, cat.dust_mass, cat.total_mass,
+      symmetry_axis >= 0 ? " (half model mirrored)" : "", prefix.string());
   const std::size_t shown = std::min<std::size_t>(cat.fragments.size(), 5);
   for (std::size_t i = 0; i < shown; ++i) {
     const Fragment& f = cat.fragments[i];

@@ -1,9 +1,9 @@
 // shatter: run, resume and post-process MPM impact simulations.
 
-#include <CLI/CLI.hpp>
 #include <spdlog/sinks/basic_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "commands.hpp"
 
@@ -73,7 +73,8 @@ int main(int argc, char** argv) {
   auto* threshold_opt =
       fragments->add_option("--threshold", threshold, "damage at which a point has failed");
   auto* method_opt = fragments->add_option("--method", method, "grid_density | friends_of_friends");
-  auto* prefix_opt = fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.pkdgrav");
+  auto* prefix_opt =
+      fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.pkdgrav");
   fragments->add_flag("--quiet", quiet, "only warnings and errors");
 
   try {

@@ -22,9 +22,10 @@ bool allowed_on_resume(const std::string& assignment) {
 int resume_command(const std::filesystem::path& file, const RunOptions& options) {
   for (const auto& o : options.sets) {
     if (!allowed_on_resume(o)) {
-      spdlog::error("--set {}: a resumed run may change only solver.end_time and output.* (the "
-                    "rest would break the bit-for-bit continuation)",
-                    o);
+      spdlog::error(
+          "--set {}: a resumed run may change only solver.end_time and output.* (the "
+          "rest would break the bit-for-bit continuation)",
+          o);
       return kBadInput;
     }
   }
@@ -43,9 +44,10 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
     return kBadInput;
   }
   if (c.state.clock.time >= s.end_time) {
-    spdlog::error("{} is at t = {} s, not before the end time {} s (raise it with --set "
-                  "solver.end_time=...)",
-                  file.string(), c.state.clock.time, s.end_time);
+    spdlog::error(
+        "{} is at t = {} s, not before the end time {} s (raise it with --set "
+        "solver.end_time=...)",
+        file.string(), c.state.clock.time, s.end_time);
     return kBadInput;
   }
   const std::filesystem::path out =

@@ -14,30 +14,34 @@ namespace {
 
 // Files a run writes; --overwrite removes exactly these, nothing else in the directory.
 bool holds_a_run(const std::filesystem::path& out) {
-  return std::filesystem::exists(out / "scene.toml") || std::filesystem::exists(checkpoint_path(out)) ||
+  return std::filesystem::exists(out / "scene.toml") ||
+         std::filesystem::exists(checkpoint_path(out)) ||
          std::filesystem::exists(snapshot_dir(out));
 }
 
 void clear_run(const std::filesystem::path& out) {
   std::filesystem::remove_all(snapshot_dir(out));
-  for (const char* name : {"scene.toml", "checkpoint.h5", "checkpoint.h5.tmp", "particles.xmf",
-                           "timeseries.csv", "fragments.csv", "fragments.h5", "fragments.pkdgrav"}) {
+  for (const char* name :
+       {"scene.toml", "checkpoint.h5", "checkpoint.h5.tmp", "particles.xmf", "timeseries.csv",
+        "fragments.csv", "fragments.h5", "fragments.pkdgrav"}) {
     std::filesystem::remove(out / name);
   }
   for (const auto& e : std::filesystem::directory_iterator(out)) {
-    if (e.path().filename().string().rfind("failed_step", 0) == 0) std::filesystem::remove(e.path());
+    if (e.path().filename().string().rfind("failed_step", 0) == 0)
+      std::filesystem::remove(e.path());
   }
 }
 
 std::string resolved_header(const std::filesystem::path& scene_file,
                             const std::vector<std::string>& sets, const scene::Scene& s) {
-  std::string h = fmt::format("# Resolved by shatter {} from {}\n", SHATTER_VERSION,
-                              scene_file.string());
+  std::string h =
+      fmt::format("# Resolved by shatter {} from {}\n", SHATTER_VERSION, scene_file.string());
   for (const auto& o : sets) h += fmt::format("#   --set {}\n", o);
   for (const auto& b : s.bodies) {
-    h += fmt::format("# body {}: {} points, spacing {} m, volume {:.6g} m^3, velocity [{}, {}, {}] m/s\n",
-                     b.name, b.fill.points.size(), b.spacing, b.fill.volume, b.velocity.x(),
-                     b.velocity.y(), b.velocity.z());
+    h += fmt::format(
+        "# body {}: {} points, spacing {} m, volume {:.6g} m^3, velocity [{}, {}, {}] m/s\n",
+        b.name, b.fill.points.size(), b.spacing, b.fill.volume, b.velocity.x(), b.velocity.y(),
+        b.velocity.z());
   }
   if (s.impact.used) {
     const auto& c = s.impact.projectile_centre;
@@ -66,9 +70,10 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
   }
   const std::filesystem::path out = options.out.value_or(s.output.directory);
   if (std::filesystem::exists(out) && holds_a_run(out) && !options.overwrite) {
-    spdlog::error("{} already holds a run; pass --overwrite to replace it or --out for another "
-                  "directory",
-                  out.string());
+    spdlog::error(
+        "{} already holds a run; pass --overwrite to replace it or --out for another "
+        "directory",
+        out.string());
     return kBadInput;
   }
 
@@ -88,7 +93,8 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
 
   std::filesystem::create_directories(out);
   if (options.overwrite) clear_run(out);
-  io::write_text_atomically(out / "scene.toml", resolved_header(scene_file, options.sets, s) + s.resolved);
+  io::write_text_atomically(out / "scene.toml",
+                            resolved_header(scene_file, options.sets, s) + s.resolved);
   spdlog::info("output in {}", out.string());
 
   RunSpec spec;

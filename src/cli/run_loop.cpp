@@ -85,7 +85,8 @@ class Runner {
     const double end = scene_.end_time;
     if (cursor_.next_snapshot_time <= sim_.time()) snapshot();
     while (sim_.time() < end) {
-      const double target = std::min({cursor_.next_snapshot_time, cursor_.next_checkpoint_time, end});
+      const double target =
+          std::min({cursor_.next_snapshot_time, cursor_.next_checkpoint_time, end});
       while (sim_.time() < target) {
         // Plain steps until the next one would pass the output time; advance_to then shortens
         // the last step to land on it.
@@ -102,9 +103,9 @@ class Runner {
       if (sim_.time() >= cursor_.next_snapshot_time) snapshot();
       if (sim_.time() >= cursor_.next_checkpoint_time) {
         checkpoint();
-        cursor_.next_checkpoint_time = on_end(
-            cursor_.next_checkpoint_time + scene_.output.checkpoint_every,
-            scene_.output.checkpoint_every);
+        cursor_.next_checkpoint_time =
+            on_end(cursor_.next_checkpoint_time + scene_.output.checkpoint_every,
+                   scene_.output.checkpoint_every);
       }
     }
   }
@@ -183,7 +184,8 @@ class Runner {
 
   void progress() {
     const auto now = Clock::now();
-    if (std::chrono::duration<double>(now - last_progress_).count() < scene_.output.progress_every) {
+    if (std::chrono::duration<double>(now - last_progress_).count() <
+        scene_.output.progress_every) {
       return;
     }
     const double wall = seconds_since_start();
@@ -191,11 +193,11 @@ class Runner {
     const double eta = done > 0 ? (scene_.end_time - sim_.time()) / done * wall : kNever;
     const double rate = static_cast<double>(sim_.clock().step - steps_at_last_) /
                         std::chrono::duration<double>(now - last_progress_).count();
-    spdlog::info("t = {} / {} | step {} | dt {:.3g} s | {:.0f} steps/s | ETA {} | energy error "
-                 "{:.2e} | failed {:.1f}%",
-                 format_time(sim_.time()), format_time(scene_.end_time), sim_.clock().step,
-                 sim_.clock().dt, rate, format_duration(eta), sim_.energy().error(),
-                 100.0 * failure_ratio());
+    spdlog::info(
+        "t = {} / {} | step {} | dt {:.3g} s | {:.0f} steps/s | ETA {} | energy error "
+        "{:.2e} | failed {:.1f}%",
+        format_time(sim_.time()), format_time(scene_.end_time), sim_.clock().step, sim_.clock().dt,
+        rate, format_duration(eta), sim_.energy().error(), 100.0 * failure_ratio());
     last_progress_ = now;
     steps_at_last_ = sim_.clock().step;
   }
@@ -239,11 +241,15 @@ class Runner {
 
 }  // namespace
 
-std::filesystem::path snapshot_dir(const std::filesystem::path& out) { return out / "snapshots"; }
+std::filesystem::path snapshot_dir(const std::filesystem::path& out) {
+  return out / "snapshots";
+}
 std::filesystem::path checkpoint_path(const std::filesystem::path& out) {
   return out / "checkpoint.h5";
 }
 
-int run_loop(Simulation& sim, const RunSpec& spec) { return Runner(sim, spec).run(); }
+int run_loop(Simulation& sim, const RunSpec& spec) {
+  return Runner(sim, spec).run();
+}
 
 }  // namespace shatter::cli

@@ -10,17 +10,41 @@ namespace shatter::io {
 
 std::string_view unit_of(Field f) {
   switch (f) {
-    case Field::x: case Field::y: case Field::z: case Field::size0: return "m";
-    case Field::vx: case Field::vy: case Field::vz: case Field::soundspeed: return "m/s";
-    case Field::mass: return "kg";
-    case Field::volume0: return "m^3";
-    case Field::rho: return "kg/m^3";
-    case Field::energy: case Field::heat: return "J/kg";
-    case Field::sxx: case Field::syy: case Field::szz: case Field::sxy: case Field::syz:
-    case Field::sxz: case Field::pressure: case Field::sdev_xx: case Field::sdev_yy:
-    case Field::sdev_zz: case Field::sdev_xy: case Field::sdev_yz: case Field::sdev_xz:
+    case Field::x:
+    case Field::y:
+    case Field::z:
+    case Field::size0:
+      return "m";
+    case Field::vx:
+    case Field::vy:
+    case Field::vz:
+    case Field::soundspeed:
+      return "m/s";
+    case Field::mass:
+      return "kg";
+    case Field::volume0:
+      return "m^3";
+    case Field::rho:
+      return "kg/m^3";
+    case Field::energy:
+    case Field::heat:
+      return "J/kg";
+    case Field::sxx:
+    case Field::syy:
+    case Field::szz:
+    case Field::sxy:
+    case Field::syz:
+    case Field::sxz:
+    case Field::pressure:
+    case Field::sdev_xx:
+    case Field::sdev_yy:
+    case Field::sdev_zz:
+    case Field::sdev_xy:
+    case Field::sdev_yz:
+    case Field::sdev_xz:
       return "Pa";
-    default: return "1";  // strains, spins, damage, flaw counts, Weibull exponent
+    default:
+      return "1";  // strains, spins, damage, flaw counts, Weibull exponent
   }
 }
 
@@ -66,8 +90,8 @@ ColumnSelection select_columns(const std::vector<std::string>& names) {
     } else {
       std::vector<std::string> known(kFieldNames.begin(), kFieldNames.end());
       known.insert(known.end(), kIFieldNames.begin(), kIFieldNames.end());
-      throw std::invalid_argument(fmt::format("unknown particle column '{}'{}", n,
-                                              did_you_mean(n, known)));
+      throw std::invalid_argument(
+          fmt::format("unknown particle column '{}'{}", n, did_you_mean(n, known)));
     }
   }
   return s;

@@ -58,8 +58,7 @@ std::vector<T> read_1d(hid_t parent, const std::string& name, hid_t type) {
 }
 
 Handle create_attr(hid_t obj, const std::string& name, hid_t type) {
-  Handle space{check(H5Screate(H5S_SCALAR), obj, "create dataspace for attribute", name),
-               H5Sclose};
+  Handle space{check(H5Screate(H5S_SCALAR), obj, "create dataspace for attribute", name), H5Sclose};
   return {check(H5Acreate2(obj, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT), obj,
                 "create attribute", name),
           H5Aclose};
@@ -91,7 +90,9 @@ QuietErrors::QuietErrors() {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
 }
 
-QuietErrors::~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+QuietErrors::~QuietErrors() {
+  H5Eset_auto2(H5E_DEFAULT, func_, data_);
+}
 
 Handle create_file(const std::filesystem::path& path) {
   const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
@@ -119,8 +120,7 @@ Handle create_group(hid_t parent, const std::string& name) {
 
 Handle open_group(hid_t parent, const std::string& name) {
   if (!exists(parent, name)) fail(parent, "find group", name);
-  return {check(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), parent, "open group", name),
-          H5Gclose};
+  return {check(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), parent, "open group", name), H5Gclose};
 }
 
 bool exists(hid_t parent, const std::string& name) {
@@ -132,8 +132,8 @@ std::vector<std::string> children(hid_t group) {
   check(H5Gget_info(group, &info), group, "list group", "");
   std::vector<std::string> names;
   for (hsize_t i = 0; i < info.nlinks; ++i) {
-    const ssize_t len = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
-                                           H5P_DEFAULT);
+    const ssize_t len =
+        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
     if (len < 0) fail(group, "list group", "");
     std::string name(static_cast<std::size_t>(len), '\0');
     H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
@@ -220,7 +220,9 @@ std::string get_attr_string(hid_t obj, const std::string& name) {
   return out;
 }
 
-bool has_attr(hid_t obj, const std::string& name) { return H5Aexists(obj, name.c_str()) > 0; }
+bool has_attr(hid_t obj, const std::string& name) {
+  return H5Aexists(obj, name.c_str()) > 0;
+}
 
 void write_text(hid_t parent, const std::string& name, std::string_view text) {
   Handle type{check(H5Tcopy(H5T_C_S1), parent, "copy string type for", name), H5Tclose};
@@ -244,8 +246,8 @@ std::string read_text(hid_t parent, const std::string& name) {
     fail(parent, "read fixed-length text dataset", name);
   }
   std::string out(H5Tget_size(type.get()), '\0');
-  check(H5Dread(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), parent,
-        "read", name);
+  check(H5Dread(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), parent, "read",
+        name);
   while (!out.empty() && out.back() == '\0') out.pop_back();
   return out;
 }

@@ -81,8 +81,8 @@ ParticleStore read_particles(hid_t file) {
   std::size_t next = 0;
   for (std::size_t g = 0; g < begin.size(); ++g) {
     if (static_cast<std::size_t>(begin[g]) != next || end[g] < begin[g]) {
-      throw std::runtime_error(fmt::format("{}: group {} does not follow group {}", where, g,
-                                           g == 0 ? 0 : g - 1));
+      throw std::runtime_error(
+          fmt::format("{}: group {} does not follow group {}", where, g, g == 0 ? 0 : g - 1));
     }
     store.add_group(static_cast<int>(material[g]), static_cast<std::size_t>(end[g] - begin[g]));
     next = static_cast<std::size_t>(end[g]);
@@ -96,18 +96,16 @@ ParticleStore read_particles(hid_t file) {
   for (Field f : columns.fields) {
     const auto data = h5::read_doubles(particles.get(), std::string(name_of(f)));
     if (data.size() != n) {
-      throw std::runtime_error(
-          fmt::format("{}: column '{}' has {} values, expected {}", where, name_of(f),
-                      data.size(), n));
+      throw std::runtime_error(fmt::format("{}: column '{}' has {} values, expected {}", where,
+                                           name_of(f), data.size(), n));
     }
     std::copy(data.begin(), data.end(), store.col(f).begin());
   }
   for (IField f : columns.ifields) {
     const auto data = h5::read_ints(particles.get(), std::string(name_of(f)));
     if (data.size() != n) {
-      throw std::runtime_error(
-          fmt::format("{}: column '{}' has {} values, expected {}", where, name_of(f),
-                      data.size(), n));
+      throw std::runtime_error(fmt::format("{}: column '{}' has {} values, expected {}", where,
+                                           name_of(f), data.size(), n));
     }
     std::copy(data.begin(), data.end(), store.col(f).begin());
   }

@@ -21,7 +21,9 @@ std::ofstream open_for_writing(const std::filesystem::path& file, std::ios::open
 
 }  // namespace
 
-std::string_view timeseries_header() { return kHeader; }
+std::string_view timeseries_header() {
+  return kHeader;
+}
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file)
     : out_(open_for_writing(file, std::ios::trunc)) {
@@ -54,11 +56,12 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, double res
 
 void TimeSeriesWriter::write(const TimeSeriesRow& r) {
   const EnergyBudget& e = r.energy;
-  out_ << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.9g},"
-                      "{:.17g},{:.17g},{:.17g},{:.9g},{:.3f}\n",
-                      r.step, r.time, r.dt, e.kinetic, e.internal, e.potential, e.total(),
-                      e.boundary_work, e.outflow, e.error(), r.momentum.x(), r.momentum.y(),
-                      r.momentum.z(), r.failure_ratio, r.wall);
+  out_ << fmt::format(
+      "{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.9g},"
+      "{:.17g},{:.17g},{:.17g},{:.9g},{:.3f}\n",
+      r.step, r.time, r.dt, e.kinetic, e.internal, e.potential, e.total(), e.boundary_work,
+      e.outflow, e.error(), r.momentum.x(), r.momentum.y(), r.momentum.z(), r.failure_ratio,
+      r.wall);
 }
 
 Eigen::Vector3d total_momentum(const ParticleStore& store) {

@@ -16,11 +16,20 @@ std::string xml_escape(std::string_view s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -46,9 +55,8 @@ std::string xdmf_document(const std::vector<XdmfEntry>& entries) {
     const auto& f = e.columns.fields;
     for (Field axis : {Field::x, Field::y, Field::z}) {
       if (std::find(f.begin(), f.end(), axis) == f.end()) {
-        throw std::invalid_argument(
-            fmt::format("snapshot {} lacks column '{}' needed for XDMF geometry", e.file,
-                        name_of(axis)));
+        throw std::invalid_argument(fmt::format(
+            "snapshot {} lacks column '{}' needed for XDMF geometry", e.file, name_of(axis)));
       }
     }
     doc += fmt::format("      <Grid Name=\"{}\" GridType=\"Uniform\">\n",
@@ -104,6 +112,8 @@ void XdmfSeries::rebuild(const std::vector<std::filesystem::path>& snapshots, do
   write();
 }
 
-void XdmfSeries::write() const { write_text_atomically(xmf_, xdmf_document(entries_)); }
+void XdmfSeries::write() const {
+  write_text_atomically(xmf_, xdmf_document(entries_));
+}
 
 }  // namespace shatter::io

@@ -36,9 +36,9 @@ void fill_and_check_bodies(Scene& scene) {
       for (const Vec3& p : b.fill.points) inside += a.shape.contains(p) ? 1 : 0;
       for (const Vec3& p : a.fill.points) inside += b.shape.contains(p) ? 1 : 0;
       if (inside > 0) {
-        throw SceneError(b.where, "body." + b.name,
-                         fmt::format("overlaps body '{}' ({} points lie inside both)", a.name,
-                                     inside));
+        throw SceneError(
+            b.where, "body." + b.name,
+            fmt::format("overlaps body '{}' ({} points lie inside both)", a.name, inside));
       }
     }
   }

@@ -79,9 +79,9 @@ void apply_override(toml::table& doc, const std::string& assignment) {
   const std::string origin = "--set " + assignment;
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw SceneError(location(toml::source_region{{}, {}, std::make_shared<const std::string>(
-                                                              origin)}),
-                     "", "expected key=value");
+    throw SceneError(
+        location(toml::source_region{{}, {}, std::make_shared<const std::string>(origin)}), "",
+        "expected key=value");
   }
   const std::string key = assignment.substr(0, eq);
   const std::string value = assignment.substr(eq + 1);
@@ -132,8 +132,8 @@ void apply_override(toml::table& doc, const std::string& assignment) {
 
 std::string to_toml(const toml::table& doc) {
   std::stringstream ss;
-  ss << toml::toml_formatter(doc, toml::toml_formatter::default_flags &
-                                      ~toml::format_flags::allow_literal_strings);
+  ss << toml::toml_formatter(
+      doc, toml::toml_formatter::default_flags & ~toml::format_flags::allow_literal_strings);
   return ss.str();
 }
 

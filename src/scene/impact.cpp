@@ -74,8 +74,8 @@ void apply_impact(const ImpactInput& in, Scene& scene) {
     throw SceneError(in.where_projectile, "impact.projectile",
                      fmt::format("no body '{}'", in.projectile));
   }
-  const auto* ts = target->shape.parts.size() == 1 ? std::get_if<Sphere>(&target->shape.parts[0])
-                                                   : nullptr;
+  const auto* ts =
+      target->shape.parts.size() == 1 ? std::get_if<Sphere>(&target->shape.parts[0]) : nullptr;
   if (ts == nullptr) {
     throw SceneError(in.where_target, "impact.target",
                      fmt::format("body '{}' must be a sphere for the impact helper", in.target));

@@ -1,8 +1,8 @@
 #include "shatter/scene/lattice.hpp"
 
-#include <cmath>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace shatter::scene {
@@ -59,7 +59,8 @@ LatticeFill fill_lattice(const Shape& shape, double s, int clip_axis) {
         const bool in = shape.contains(centre);
         if (in) fill.points.push_back(centre);
         int corners = 0;
-        for (int c = 0; c < 8; ++c) corners += corner_at(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2));
+        for (int c = 0; c < 8; ++c)
+          corners += corner_at(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2));
         if (corners == 8 && in) {
           fill.volume += cell_volume;
         } else if (corners > 0 || in) {

@@ -9,8 +9,8 @@ namespace shatter::scene {
 namespace {
 
 const std::vector<std::string> kShapeKinds = {"sphere", "ellipsoid", "box", "cylinder", "union"};
-const std::vector<std::string> kBodyKeys = {"shape", "material", "velocity", "spacing",
-                                            "points_per_cell", "energy", "mass", "damage"};
+const std::vector<std::string> kBodyKeys = {"shape",           "material", "velocity", "spacing",
+                                            "points_per_cell", "energy",   "mass",     "damage"};
 const std::vector<std::string> kMaterialModelKeys = {"eos", "strength"};
 
 std::vector<std::string> shape_keys(const std::string& kind) {
@@ -97,7 +97,8 @@ Shape read_shape(Reader& r, bool placed_by_impact) {
 // error can point at that key's line; empty when none is named.
 std::string key_named_in(const std::string& message, const toml::table& table) {
   for (const auto& [k, v] : table) {
-    if (message.find(fmt::format("'{}'", k.str())) != std::string::npos) return std::string(k.str());
+    if (message.find(fmt::format("'{}'", k.str())) != std::string::npos)
+      return std::string(k.str());
   }
   return {};
 }
@@ -116,9 +117,9 @@ MaterialSpec read_material(Reader& body, const MaterialCatalogue& catalogue) {
   }
   if (!catalogue.contains(name)) {
     const std::string key = overrides ? "name" : "material";
-    const std::string msg = fmt::format("unknown material '{}'{} (catalogue: {})", name,
-                                        io::did_you_mean(name, catalogue.names()),
-                                        fmt::join(catalogue.names(), ", "));
+    const std::string msg =
+        fmt::format("unknown material '{}'{} (catalogue: {})", name,
+                    io::did_you_mean(name, catalogue.names()), fmt::join(catalogue.names(), ", "));
     if (r) r->fail(key, msg);
     body.fail(key, msg);
   }

@@ -27,19 +27,20 @@ void read_solver(Reader& root, Scene& scene) {
   toml::table* t = root.subtable("solver");
   if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
   Reader r(*t, "solver");
-  r.allow({"shape", "cell_size", "cfl", "end_time", "dt_max", "dt_min", "gravity",
-           "symmetry_plane", "reorder_interval", "viscosity"});
+  r.allow({"shape", "cell_size", "cfl", "end_time", "dt_max", "dt_min", "gravity", "symmetry_plane",
+           "reorder_interval", "viscosity"});
   r.reject_unknown();
 
   SolverConfig& c = scene.solver;
   const std::string shape = r.choice("shape", "ugimp", kShapes);
-  c.shape = shape == "linear" ? ShapeKind::linear
+  c.shape = shape == "linear"  ? ShapeKind::linear
             : shape == "ugimp" ? ShapeKind::ugimp
                                : ShapeKind::bspline2;
   c.cell_size = r.positive("cell_size", r.number("cell_size"));
   c.cfl = r.number("cfl", 0.3);
   // Eq. 34 is stable up to CFL = 1.
-  if (!(c.cfl > 0.0 && c.cfl <= 1.0)) r.fail("cfl", fmt::format("must be in (0, 1] (got {})", c.cfl));
+  if (!(c.cfl > 0.0 && c.cfl <= 1.0))
+    r.fail("cfl", fmt::format("must be in (0, 1] (got {})", c.cfl));
   scene.end_time = r.positive("end_time", r.number("end_time"));
   if (auto v = r.optional_number("dt_max")) c.dt_max = r.positive("dt_max", *v);
   c.dt_min = r.non_negative("dt_min", r.number("dt_min", 0.0));
@@ -85,7 +86,8 @@ void read_domain(Reader& root, Scene& scene) {
     d.lo = (r.vec3("lo") / h).array().floor().matrix() * h;
     d.hi = (r.vec3("hi") / h).array().ceil().matrix() * h;
     for (int a = 0; a < 3; ++a) {
-      if (!(d.lo[a] < d.hi[a])) r.fail("hi", fmt::format("must exceed lo on every axis (axis {})", a));
+      if (!(d.lo[a] < d.hi[a]))
+        r.fail("hi", fmt::format("must exceed lo on every axis (axis {})", a));
     }
   }
   if (sym >= 0) {

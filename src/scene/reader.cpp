@@ -11,13 +11,20 @@ namespace {
 
 std::string_view type_name(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a number";
-    case toml::node_type::boolean: return "a boolean";
-    default: return "a date/time";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    default:
+      return "a date/time";
   }
 }
 
@@ -85,7 +92,9 @@ void Reader::fail_table(const std::string& message) const {
   throw SceneError(w, path_, message);
 }
 
-const toml::node* Reader::find(std::string_view key) const { return table_->get(key); }
+const toml::node* Reader::find(std::string_view key) const {
+  return table_->get(key);
+}
 
 const toml::node& Reader::require(std::string_view key) const {
   const toml::node* n = find(key);

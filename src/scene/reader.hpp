@@ -12,8 +12,8 @@
 #include <string_view>
 #include <vector>
 
-#include <Eigen/Core>
 #include <toml++/toml.h>
+#include <Eigen/Core>
 
 #include "shatter/scene/scene_error.hpp"
 

@@ -11,9 +11,27 @@ namespace {
 
 // The columns written when the scene does not list them: what the paper's figures and the
 // fragment search need.
-const std::vector<std::string> kDefaultColumns = {
-    "x", "y", "z", "vx", "vy", "vz", "mass", "volume0", "rho", "energy", "pressure",
-    "damage", "plastic_strain", "sxx", "syy", "szz", "sxy", "syz", "sxz", "id", "body"};
+const std::vector<std::string> kDefaultColumns = {"x",
+                                                  "y",
+                                                  "z",
+                                                  "vx",
+                                                  "vy",
+                                                  "vz",
+                                                  "mass",
+                                                  "volume0",
+                                                  "rho",
+                                                  "energy",
+                                                  "pressure",
+                                                  "damage",
+                                                  "plastic_strain",
+                                                  "sxx",
+                                                  "syy",
+                                                  "szz",
+                                                  "sxy",
+                                                  "syz",
+                                                  "sxz",
+                                                  "id",
+                                                  "body"};
 
 Scene parse(toml::table doc, const std::string& source, const std::vector<std::string>& overrides,
             const std::filesystem::path& base_dir) {
@@ -22,8 +40,8 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   Scene scene;
   scene.source = source;
   Reader root(doc, "", source);
-  root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact",
-              "fracture", "output"});
+  root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact", "fracture",
+              "output"});
   root.reject_unknown();
   scene.name = root.string("name", std::filesystem::path(source).stem().string());
   scene.description = root.string("description", "-");
@@ -109,7 +127,8 @@ void read_output(Reader& root, Scene& scene) {
   r.reject_unknown();
   OutputSpec& o = scene.output;
   o.directory = r.string("directory", "out/" + scene.name);
-  o.snapshot_every = r.non_negative("snapshot_every", r.number("snapshot_every", scene.end_time / 10));
+  o.snapshot_every =
+      r.non_negative("snapshot_every", r.number("snapshot_every", scene.end_time / 10));
   o.checkpoint_every = r.non_negative("checkpoint_every", r.number("checkpoint_every", 0.0));
   o.timeseries_every = r.integer("timeseries_every", 10);
   if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");

@@ -43,7 +43,9 @@ Bounds bounds(const Primitive& s) {
                  [](const Ellipsoid& b) {
                    return Bounds{b.centre - b.semi_axes, b.centre + b.semi_axes};
                  },
-                 [](const Box& b) { return Bounds{b.lo, b.hi}; },
+                 [](const Box& b) {
+                   return Bounds{b.lo, b.hi};
+                 },
                  [](const Cylinder& b) {
                    // Extent of a disc of radius r normal to a along axis i: r sqrt(1 - a_i^2).
                    const Vec3 disc = b.radius * (1.0 - b.axis.array().square()).max(0.0).sqrt();

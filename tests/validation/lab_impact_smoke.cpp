@@ -56,7 +56,9 @@ class LabImpactSmoke : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  std::string scene() const { return std::string(SHATTER_SOURCE_DIR) + "/scenes/lab-impact-coarse.toml"; }
+  std::string scene() const {
+    return std::string(SHATTER_SOURCE_DIR) + "/scenes/lab-impact-coarse.toml";
+  }
   fs::path dir_;
 };
 
@@ -66,9 +68,9 @@ const std::string kCoarse =
 
 TEST_F(LabImpactSmoke, RunWritesSnapshotsSeriesAndCheckpointWithBoundedEnergyError) {
   const fs::path out = dir_ / "run";
-  ASSERT_EQ(run("run " + scene() + " --out " + out.string() + kCoarse +
-                " --set solver.end_time=4.0e-6"),
-            0);
+  ASSERT_EQ(
+      run("run " + scene() + " --out " + out.string() + kCoarse + " --set solver.end_time=4.0e-6"),
+      0);
 
   // Snapshots at 0, 1, 2, 3, 4 us, each with the damage column, and all in the XDMF series.
   for (int k = 0; k <= 4; ++k) {
@@ -126,13 +128,15 @@ TEST_F(LabImpactSmoke, BadInputExitsNonZeroAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir_ / "a"));
   EXPECT_EQ(run("run " + scene() + " --out " + (dir_ / "b").string() + " --set solver.cfl=2"), 2);
   EXPECT_FALSE(fs::exists(dir_ / "b"));
-  EXPECT_EQ(run("run " + scene() + " --out " + (dir_ / "c").string() + " --set body.target.radus=1"),
-            2);
+  EXPECT_EQ(
+      run("run " + scene() + " --out " + (dir_ / "c").string() + " --set body.target.radus=1"), 2);
   EXPECT_FALSE(fs::exists(dir_ / "c"));
   EXPECT_EQ(run("resume " + (dir_ / "missing.h5").string()), 2);
   EXPECT_EQ(run("fragments " + (dir_ / "missing.h5").string()), 2);
 }
 
-TEST_F(LabImpactSmoke, VersionIsPrinted) { EXPECT_EQ(run("--version"), 0); }
+TEST_F(LabImpactSmoke, VersionIsPrinted) {
+  EXPECT_EQ(run("--version"), 0);
+}
 
 }  // namespace

@@ -48,6 +48,7 @@ Eigen::Vector3d total_momentum(const ParticleStore& store);
 // Fraction of the points of the flagged groups (`counted[g]` for group g) whose damage is at or
 // above `threshold` (MPM paper Fig. 5: failed = D >= 0.9). 0 when no group is flagged or the
 // store has no damage column.
-double failure_ratio(const ParticleStore& store, double threshold, const std::vector<bool>& counted);
+double failure_ratio(const ParticleStore& store, double threshold,
+                     const std::vector<bool>& counted);
 
 }  // namespace shatter::io

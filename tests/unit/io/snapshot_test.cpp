@@ -83,7 +83,7 @@ TEST(Snapshot, FileCarriesTimeStepAndUnitsAttributes) {
   EXPECT_EQ(string_attr(f, "time_units"), "s");
 
   const std::pair<const char*, const char*> expected[] = {
-      {"/particles/x", "m"},       {"/particles/vx", "m/s"}, {"/particles/mass", "kg"},
+      {"/particles/x", "m"},        {"/particles/vx", "m/s"},      {"/particles/mass", "kg"},
       {"/particles/rho", "kg/m^3"}, {"/particles/energy", "J/kg"}, {"/particles/damage", "1"},
       {"/particles/id", "1"}};
   for (const auto& [path, units] : expected) {

@@ -36,9 +36,8 @@ TimeSeriesRow row(std::uint64_t step, double t) {
 
 TEST(TimeSeries, HeaderNamesEveryQuantityWithItsUnit) {
   const std::string h(timeseries_header());
-  for (const char* col : {"time_s", "dt_s", "kinetic_J", "internal_J", "total_J",
-                          "energy_error", "px_kg_m_per_s", "py_kg_m_per_s", "pz_kg_m_per_s",
-                          "failure_ratio"}) {
+  for (const char* col : {"time_s", "dt_s", "kinetic_J", "internal_J", "total_J", "energy_error",
+                          "px_kg_m_per_s", "py_kg_m_per_s", "pz_kg_m_per_s", "failure_ratio"}) {
     EXPECT_NE(h.find(col), std::string::npos) << col;
   }
 }

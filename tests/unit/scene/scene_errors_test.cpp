@@ -55,7 +55,8 @@ TEST(SceneErrors, MissingRequiredValueNamesTheTable) {
 }
 
 TEST(SceneErrors, MissingSolverSectionIsRefused) {
-  const std::string text = with("[solver]\ncell_size = 2.0e-3\nend_time = 1.0e-6\nsymmetry_plane = \"z\"\n", "");
+  const std::string text =
+      with("[solver]\ncell_size = 2.0e-3\nend_time = 1.0e-6\nsymmetry_plane = \"z\"\n", "");
   EXPECT_NE(error_of(text).find("solver"), std::string::npos);
 }
 
@@ -105,9 +106,10 @@ TEST(SceneErrors, UnknownDamageParameterPointsAtIt) {
 
 TEST(SceneErrors, OverlappingBodiesAreRefused) {
   // Without the impact helper the projectile sits where it is put: inside the target.
-  std::string text = with("[impact]\nprojectile = \"projectile\"\ntarget = \"target\"\n"
-                          "speed = 3200.0\nangle = 30.0\n",
-                          "");
+  std::string text = with(
+      "[impact]\nprojectile = \"projectile\"\ntarget = \"target\"\n"
+      "speed = 3200.0\nangle = 30.0\n",
+      "");
   text = with("radius = 3.5e-3", "radius = 3.5e-3\ncentre = [0.008, 0.0, 0.0]", text);
   const std::string msg = error_of(text);
   // Bodies are taken in name order; the later one (target) is the one found overlapping.

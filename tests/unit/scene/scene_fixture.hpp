@@ -64,7 +64,8 @@ inline std::string with(const std::string& from, const std::string& to,
 inline int line_of(const std::string& text, const std::string& what) {
   const auto pos = text.find(what);
   EXPECT_NE(pos, std::string::npos) << what;
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(pos), '\n'));
+  return 1 +
+         static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(pos), '\n'));
 }
 
 inline scene::Scene parse(const std::string& text, const std::vector<std::string>& sets = {}) {

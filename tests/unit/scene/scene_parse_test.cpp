@@ -80,8 +80,9 @@ TEST(SceneParse, OverridesReplaceValuesAndAcceptBareStrings) {
 }
 
 TEST(SceneParse, OverrideCanAddKeysAndTables) {
-  const Scene s = parse(kTinyScene, {"body.target.material.name=basalt",
-                                     "body.target.material.yield=3.0e7", "solver.viscosity.linear=0.1"});
+  const Scene s =
+      parse(kTinyScene, {"body.target.material.name=basalt", "body.target.material.yield=3.0e7",
+                         "solver.viscosity.linear=0.1"});
   EXPECT_EQ(s.bodies[1].material.params.at("yield"), 3.0e7);
   EXPECT_EQ(s.solver.viscosity.linear, 0.1);
 }
@@ -92,14 +93,14 @@ TEST(SceneParse, ProjectileMassChangesDensityKeepingVolume) {
   const double v = 4.0 / 3.0 * std::numbers::pi * std::pow(3.5e-3, 3);
   EXPECT_NEAR(s.bodies[0].material.params.at("rho0"), 0.225e-3 / v, 1e-9);
   // The lighter variant needs the Tillotson rho_iv lowered with it (a material override).
-  const Scene light = parse(kTinyScene, {"body.projectile.mass=0.175e-3",
-                                         "body.projectile.material.rho_iv=900"});
+  const Scene light =
+      parse(kTinyScene, {"body.projectile.mass=0.175e-3", "body.projectile.material.rho_iv=900"});
   EXPECT_NEAR(light.bodies[0].material.params.at("rho0"), 0.175e-3 / v, 1e-9);
 }
 
 TEST(SceneParse, MaterialOverridesApplyOnTopOfTheCatalogue) {
-  const Scene s = parse(with("material = \"basalt\"",
-                             "material = { name = \"basalt\", yield = 60.0e6 }"));
+  const Scene s =
+      parse(with("material = \"basalt\"", "material = { name = \"basalt\", yield = 60.0e6 }"));
   EXPECT_EQ(s.bodies[1].material.params.at("yield"), 60.0e6);
   EXPECT_EQ(s.bodies[1].material.params.at("rho0"), 2700.0);
 }
@@ -158,9 +159,10 @@ TEST(SceneParse, MissingSceneFileIsAnError) {
 }
 
 TEST(SceneParse, UnionBodiesAreAccepted) {
-  std::string text = with("[impact]\nprojectile = \"projectile\"\ntarget = \"target\"\n"
-                          "speed = 3200.0\nangle = 30.0\n",
-                          "");
+  std::string text = with(
+      "[impact]\nprojectile = \"projectile\"\ntarget = \"target\"\n"
+      "speed = 3200.0\nangle = 30.0\n",
+      "");
   text = with("shape = \"sphere\"\nradius = 3.5e-3",
               "shape = \"union\"\nparts = [ { shape = \"box\", lo = [0.02, 0.0, 0.0], hi = "
               "[0.03, 0.01, 0.01] },\n  { shape = \"cylinder\", centre = [0.025, 0.005, 0.005], "
