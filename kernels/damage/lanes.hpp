@@ -5,6 +5,15 @@
 
 #include <xsimd/xsimd.hpp>
 
+// GCC 12 reports -W(maybe-)uninitialized inside the AVX-512 intrinsics that pass
+// _mm512_undefined_pd() as the masked-off source (GCC PR 105593, fixed in GCC 13) wherever xsimd
+// math is inlined into a policy; the value is never read. Same guard as
+// kernels/constitutive/simd.hpp (the pragma is consulted along the inlining chain).
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#endif
+
 namespace shatter::damage::lanes {
 
 // Branch-free choice per lane; for doubles the compiler emits a conditional move.

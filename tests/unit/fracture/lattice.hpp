@@ -14,14 +14,8 @@
 
 namespace shatter::test {
 
-// GCC 12.2 reports -Wuninitialized inside its own AVX-512 intrinsic headers when xsimd's
-// AVX-512 math is inlined (GCC PR 105593), which -Werror turns into a build failure; the AVX2
-// batch exercises the same lane-wise code paths without it.
-#if XSIMD_WITH_AVX2
-using Batch = xsimd::batch<double, xsimd::avx2>;
-#else
+// The native batch (AVX-512 here), the one the constitutive kernels instantiate the policies with.
 using Batch = xsimd::batch<double>;
-#endif
 
 struct Point {
   double x = 0, y = 0, z = 0;
