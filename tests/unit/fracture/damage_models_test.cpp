@@ -22,7 +22,7 @@ DamageInput<double> stress(double xx, double yy, double xy) {
 }
 
 TEST(Brittle, FailsWhenLargestPrincipalStressReachesSigma0AndStaysFailed) {
-  // Pure shear tau = 30 MPa has sigma_max = 30 MPa (exact in the closed form up to round-off,
+  // Pure shear tau = 30 MPa has sigma_max = 30 MPa (exact up to the round-off of the rotations,
   // hence the 1 Pa margin around sigma_0 = 40 MPa).
   Brittle b;
   b.params.sigma_0 = 40e6;
