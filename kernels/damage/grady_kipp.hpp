@@ -50,15 +50,15 @@ struct GradyKipp {
     // n_f flaws the particle holds can be.
     const auto active = (eps_eff >= st.eps_min) && (st.eps_min > T(0.0));
     const T ratio = xsimd::max(eps_eff / lanes::select(active, st.eps_min, T(1.0)), T(1.0));
-    const T n_weibull = xsimd::exp(st.weibull_m * xsimd::log(ratio));
+    const T n_weibull = xsimd::exp(st.weibull_m * lanes::log(ratio));
     const T n_act = lanes::select(active, xsimd::min(n_weibull, st.n_flaws), T(0.0));
     // Eq. 19 integrated over dt in D^(1/3).
     const T radius =
-        params.rs > 0.0 ? T(params.rs) : xsimd::cbrt(in.volume * (3.0 / (4.0 * std::numbers::pi)));
+        params.rs > 0.0 ? T(params.rs) : lanes::cbrt(in.volume * (3.0 / (4.0 * std::numbers::pi)));
     const T cp = params.intact_soundspeed > 0.0 ? T(params.intact_soundspeed) : in.soundspeed;
-    const T root = xsimd::cbrt(d_old) + n_act * (params.crack_speed_factor * in.dt) * cp / radius;
+    const T root = lanes::cbrt(d_old) + n_act * (params.crack_speed_factor * in.dt) * cp / radius;
     // BA95 Eq. 22 caps D by the fraction of active flaws; damage never heals.
-    const T cap = xsimd::cbrt(n_act / xsimd::max(st.n_flaws, T(1.0)));
+    const T cap = lanes::cbrt(n_act / xsimd::max(st.n_flaws, T(1.0)));
     const T d_new = xsimd::max(d_old, xsimd::min(xsimd::min(root * root * root, cap), T(1.0)));
     st.n_active = n_act;
     st.damage = d_new;

@@ -3,6 +3,8 @@
 // path) and T = xsimd::batch<double> (SIMD path). xsimd 8.1 has scalar overloads for the math
 // functions (sqrt, cbrt, acos, ...) but not for select, so the scalar select lives here.
 
+#include <cmath>
+
 #include <xsimd/xsimd.hpp>
 
 // GCC 12 reports -W(maybe-)uninitialized inside the AVX-512 intrinsics that pass
@@ -26,6 +28,44 @@ inline xsimd::batch<double, A> select(const xsimd::batch_bool<double, A>& cond,
                                       const xsimd::batch<double, A>& a,
                                       const xsimd::batch<double, A>& b) {
   return xsimd::select(cond, a, b);
+}
+
+// log and cbrt. xsimd 8.1's AVX-512BW log and cbrt do not compile without optimisation (GCC then
+// defines the masked blend intrinsics as macros, whose casts reject xsimd's integer batches), so
+// unoptimised (Debug, sanitizer) builds evaluate them lane by lane with libm.
+inline double log(double x) {
+  return std::log(x);
+}
+inline double cbrt(double x) {
+  return std::cbrt(x);
+}
+
+namespace detail {
+template <class A, class F>
+inline xsimd::batch<double, A> per_lane(const xsimd::batch<double, A>& x, F&& f) {
+  alignas(64) double v[xsimd::batch<double, A>::size];
+  x.store_aligned(v);
+  for (double& e : v) e = f(e);
+  return xsimd::batch<double, A>::load_aligned(v);
+}
+}  // namespace detail
+
+template <class A>
+inline xsimd::batch<double, A> log(const xsimd::batch<double, A>& x) {
+#if defined(__OPTIMIZE__)
+  return xsimd::log(x);
+#else
+  return detail::per_lane(x, [](double e) { return std::log(e); });
+#endif
+}
+
+template <class A>
+inline xsimd::batch<double, A> cbrt(const xsimd::batch<double, A>& x) {
+#if defined(__OPTIMIZE__)
+  return xsimd::cbrt(x);
+#else
+  return detail::per_lane(x, [](double e) { return std::cbrt(e); });
+#endif
 }
 
 }  // namespace shatter::damage::lanes
