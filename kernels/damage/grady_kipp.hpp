@@ -43,7 +43,7 @@ struct GradyKipp {
     const T d_old = st.damage;
     const T sigma_max = largest_principal(in.s);
     // Eq. 18 with the (1 - D) correction: the stress borne by the intact fraction sets the
-    // strain the flaws feel (the MPM paper, Sec. 6, shows the model is far too strong without).
+    // strain the flaws feel (the MPM paper, Sec. 5.1, finds the model far too strong without it).
     const T intact = xsimd::max(T(1.0) - d_old, T(params.min_intact_fraction));
     const T eps_eff = xsimd::max(sigma_max, T(0.0)) / (intact * in.young);
     // Eq. 17; no flaw is active below the weakest threshold (BA95 Sec. 4.3), and at most the

@@ -113,8 +113,8 @@ TEST(GradyKipp, NoGrowthUnderCompression) {
 
 TEST(GradyKipp, DamageRaisesTheEffectiveStrainOfEq18) {
   // With D = 0.5 the same intact stress activates flaws as if the strain were doubled:
-  // n_act = (2 eps / eps_min)^m_p rather than (eps / eps_min)^m_p (the paper's Sec. 6 shows the
-  // model is far too strong without this correction). Exact up to pow round-off.
+  // n_act = (2 eps / eps_min)^m_p rather than (eps / eps_min)^m_p (the MPM paper, Sec. 5.1, shows
+  // the model is far too strong without this correction). Exact up to pow round-off.
   const GradyKipp gk{};
   DamageState<double> st = flaws(1.0e-4, 6.0, 1.0e6);
   st.damage = 0.5;
