@@ -45,7 +45,9 @@ constexpr double kEps = 2.220446049250313e-16;
 
 // Jacobi rotations are backward stable: eigenvalues within a few eps ||A|| however close they are
 // (measured worst 7.2 eps ||A|| over 2e5 random tensors and 2e4 rotated near-double roots).
-double tolerance(const Eigen::Matrix3d& a) { return 16.0 * kEps * std::max(a.norm(), 1e-300); }
+double tolerance(const Eigen::Matrix3d& a) {
+  return 16.0 * kEps * std::max(a.norm(), 1e-300);
+}
 
 TEST(PrincipalValues, MatchEigenSolverToRoundOffOfTheNorm) {
   for (const auto& arr : samples()) {
