@@ -173,6 +173,6 @@ TEST(TensileRod, BreaksAcrossTheLoadAndMorePiecesWhenPulledFaster) {
   // (measured 2 -> 7-8 pieces, 9-14% -> 54-58% failed over the three seeds).
   EXPECT_GT(fast.failed_fraction, 2.0 * slow.failed_fraction);
   EXPECT_GT(fast.pieces, slow.pieces + 2);
-  // Coarse enough to stay a quick check.
-  EXPECT_LT(slow.seconds + fast.seconds, 60.0);
+  // Run time is printed, not asserted: ~3 s per run optimised, ~90 s under the Debug sanitizer
+  // build, and a loaded machine would make a time bound flaky.
 }
