@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "constitutive/composed_kernel.hpp"
+#include "damage/grady_kipp.hpp"
 #include "eos/ideal_gas.hpp"
 #include "eos/linear_elastic.hpp"
 #include "eos/mie_gruneisen.hpp"
@@ -26,10 +27,10 @@ using namespace shatter;
 // each Tillotson region through a spread of density and energy).
 struct Columns {
   using Vec = std::vector<double, xsimd::aligned_allocator<double, 64>>;
-  Vec data[22];
+  Vec data[34];
   constitutive::ConstitutiveColumns c;
 
-  Columns(std::size_t n, double rho0, double e_scale) {
+  Columns(std::size_t n, double rho0, double e_scale, bool damage = false) {
     std::mt19937_64 rng(1);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     for (auto& v : data) v.resize(n);
@@ -51,6 +52,20 @@ struct Columns {
     for (int k = 0; k < 3; ++k) c.dspin[k] = data[17 + k].data();
     c.plastic_strain = data[20].data();
     c.heat = data[21].data();
+    if (damage) {
+      // Undamaged deviator and a Weibull flaw population (basalt-like thresholds ~1e-4, so
+      // tensile particles grow damage every step).
+      for (std::size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 6; ++k) data[22 + k][i] = data[3 + k][i];
+        data[28][i] = 0.0;                          // damage
+        data[29][i] = 5e-5 * (1.0 + 0.5 * u(rng));  // eps_min
+        data[30][i] = 3e-4;                         // eps_max
+        data[31][i] = 20.0;                         // n_flaws
+        data[32][i] = 8.5;                          // weibull_m
+      }
+      for (int k = 0; k < 6; ++k) c.sdev[k] = data[22 + k].data();
+      for (int k = 0; k < 6; ++k) c.damage_state[k] = data[28 + k].data();
+    }
   }
 };
 
@@ -62,7 +77,7 @@ template <class Kernel>
 void run(benchmark::State& state, const Kernel& k, double rho0, double e_scale) {
   const auto n = static_cast<std::size_t>(state.range(0));
   const bool use_simd = state.range(1) != 0;
-  Columns cols(n, rho0, e_scale);
+  Columns cols(n, rho0, e_scale, Kernel::kDamaged);
   const constitutive::StepParams sp{1e-7, 1e-3, 0.5, 2.0};
   for (auto _ : state) {
     k.update(cols.c, 0, n, sp, use_simd);
@@ -74,6 +89,11 @@ void run(benchmark::State& state, const Kernel& k, double rho0, double e_scale) 
 
 void BM_Tillotson_LinearHardening(benchmark::State& s) {
   const constitutive::ComposedKernel<eos::Tillotson, strength::J2Plasticity, damage::NoDamage> k(
+      kBasalt, {kEl, 3.5e9, 5.31e6}, {});
+  run(s, k, 2700.0, 5e6);
+}
+void BM_Tillotson_LinearHardening_GradyKipp(benchmark::State& s) {
+  const constitutive::ComposedKernel<eos::Tillotson, strength::J2Plasticity, damage::GradyKipp> k(
       kBasalt, {kEl, 3.5e9, 5.31e6}, {});
   run(s, k, 2700.0, 5e6);
 }
@@ -116,6 +136,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_Tillotson_LinearHardening)->Apply(sizes);
+BENCHMARK(BM_Tillotson_LinearHardening_GradyKipp)->Apply(sizes);
 BENCHMARK(BM_Tillotson_ModifiedLundborg)->Apply(sizes);
 BENCHMARK(BM_Tillotson_DruckerPrager)->Apply(sizes);
 BENCHMARK(BM_Tillotson_Hydro)->Apply(sizes);

@@ -58,6 +58,8 @@ inline T double_contraction(const T (&a)[6], const T (&b)[6]) {
 template <class Eos, class Strength, class Damage>
 class ComposedKernel {
  public:
+  static constexpr bool kDamaged = Damage::kEnabled;
+
   ComposedKernel(Eos eos, Strength strength, Damage damage)
       : eos_(eos), strength_(strength), damage_(damage) {}
 
