@@ -30,7 +30,8 @@ struct GradyKippParams {
 };
 
 // dD^(1/3)/dt = n_act c_g / R_s (MPM paper Eq. 19) with n_act = (eps_eff / eps_min)^m_p (Eq. 17)
-// and eps_eff = sigma_max / ((1 - D) E) (Eq. 18); D <= (n_act / n_f)^(1/3) (BA95 Eq. 22).
+// and eps_eff = sigma_max / ((1 - D) E) (Eq. 18) with sigma the damaged stress of Eq. 14;
+// D <= (n_act / n_f)^(1/3) (BA95 Eq. 22).
 struct GradyKipp {
   static constexpr FieldSet kFields{Field::damage,  Field::eps_min,   Field::eps_max,
                                     Field::n_flaws, Field::weibull_m, Field::n_active};
@@ -41,10 +42,16 @@ struct GradyKipp {
   template <class T>
   T evolve(const DamageInput<T>& in, DamageState<T>& st) const {
     const T d_old = st.damage;
-    const T sigma_max = largest_principal(in.s);
-    // Eq. 18 with the (1 - D) correction: the stress borne by the intact fraction sets the
-    // strain the flaws feel (the MPM paper, Sec. 5.1, finds the model far too strong without it).
+    // Eq. 18 reads sigma_max of the damaged stress sigma of Eq. 14 and divides by (1 - D) to get
+    // the strain of the intact matrix that bears it (MPM paper Sec. 5.1). in.s is the intact
+    // stress, so sigma is rebuilt here: sigma = (1 - D) s' - p* I, p* = (1 - D) p in tension.
+    // Dividing the intact stress by (1 - D) a second time would amplify the strain by 1/(1 - D)
+    // and, with m_p ~ 40, drive any damaged particle in tension to D = 1 in one step.
     const T intact = xsimd::max(T(1.0) - d_old, T(params.min_intact_fraction));
+    const T pressure = (in.s[0] + in.s[1] + in.s[2]) * T(-1.0 / 3.0);
+    const T p_star = lanes::select(pressure < T(0.0), intact * pressure, pressure);
+    // -p I shifts all principal values alike, so the largest of sigma follows from that of s.
+    const T sigma_max = intact * (largest_principal(in.s) + pressure) - p_star;
     const T eps_eff = xsimd::max(sigma_max, T(0.0)) / (intact * in.young);
     // Eq. 17; no flaw is active below the weakest threshold (BA95 Sec. 4.3), and at most the
     // n_f flaws the particle holds can be.
