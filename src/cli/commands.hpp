@@ -32,4 +32,22 @@ struct FragmentOptions {
 };
 int fragments_command(const std::filesystem::path& snapshot, const FragmentOptions& options);
 
+// `shatter material`: the material probe (include/shatter/material/probe.hpp). Lists of numbers
+// stay text here so that the command can refuse a malformed one by name.
+struct MaterialOptions {
+  std::string name;                                // catalogue material
+  bool list = false;                               // list the catalogue with sources
+  bool csv = false;                                // machine-readable output
+  std::optional<std::filesystem::path> out;        // write there instead of stdout
+  std::optional<std::filesystem::path> catalogue;  // another catalogue file
+  std::vector<std::string> params;                 // KEY=VALUE overrides of the entry
+  std::string rho, energy;                         // comma-separated lists (kg/m^3, J/kg)
+  std::string rho_sweep, energy_sweep;             // MIN:MAX:N
+  std::optional<double> up_max;                    // Hugoniot rows from 0 to up_max (m/s)
+  int points = 11;                                 // ... this many
+  std::string up;                                  // or an explicit list of up (m/s)
+  std::optional<double> ref_rho, ref_energy;       // Hugoniot reference state
+};
+int material_command(const MaterialOptions& options);
+
 }  // namespace shatter::cli

@@ -77,6 +77,34 @@ int main(int argc, char** argv) {
       fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.pkdgrav");
   fragments->add_flag("--quiet", quiet, "only warnings and errors");
 
+  MaterialOptions material_options;
+  std::string material_out, material_catalogue;
+  double up_max = 0.0, ref_rho = 0.0, ref_energy = 0.0;
+  CLI::App* material = app.add_subcommand(
+      "material", "probe a catalogue material: EOS states at (rho, E) and its principal Hugoniot");
+  material->add_option("NAME", material_options.name, "catalogue material (see --list)");
+  material->add_flag("--list", material_options.list, "list the catalogue materials and sources");
+  material->add_option("--rho", material_options.rho, "densities, kg/m^3: R1,R2,...");
+  material->add_option("--energy", material_options.energy, "specific energies, J/kg: E1,E2,...");
+  material->add_option("--rho-sweep", material_options.rho_sweep, "densities MIN:MAX:N");
+  material->add_option("--energy-sweep", material_options.energy_sweep, "energies MIN:MAX:N");
+  auto* up_max_opt = material->add_option("--hugoniot", up_max,
+                                          "principal Hugoniot for particle speeds 0..UP_MAX m/s");
+  material->add_option("--points", material_options.points, "rows of --hugoniot (default 11)");
+  material->add_option("--up", material_options.up, "Hugoniot at these particle speeds, m/s");
+  auto* ref_rho_opt =
+      material->add_option("--ref-rho", ref_rho, "Hugoniot reference density (default rho0)");
+  auto* ref_energy_opt =
+      material->add_option("--ref-energy", ref_energy, "Hugoniot reference energy (default 0)");
+  material->add_option("--param", material_options.params, "override a parameter: KEY=VALUE")
+      ->take_all();
+  material->add_flag("--csv", material_options.csv, "CSV (units in the header) instead of a table");
+  auto* material_out_opt =
+      material->add_option("--out", material_out, "write to this file instead of stdout");
+  auto* material_catalogue_opt =
+      material->add_option("--catalogue", material_catalogue, "catalogue file (TOML)");
+  material->add_flag("--quiet", quiet, "only warnings and errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -93,6 +121,14 @@ int main(int argc, char** argv) {
       if (method_opt->count() > 0) fragment_options.method = method;
       if (prefix_opt->count() > 0) fragment_options.prefix = prefix;
       return fragments_command(snapshot, fragment_options);
+    }
+    if (material->parsed()) {
+      if (up_max_opt->count() > 0) material_options.up_max = up_max;
+      if (ref_rho_opt->count() > 0) material_options.ref_rho = ref_rho;
+      if (ref_energy_opt->count() > 0) material_options.ref_energy = ref_energy;
+      if (material_out_opt->count() > 0) material_options.out = material_out;
+      if (material_catalogue_opt->count() > 0) material_options.catalogue = material_catalogue;
+      return material_command(material_options);
     }
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
