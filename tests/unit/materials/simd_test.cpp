@@ -177,8 +177,11 @@ TEST(SimdEqualsScalar, StrengthModelsAtStiffExtremeStates) {
                  e);
 }
 
-// The whole composed kernel over a column range with a tail (n not a multiple of the width).
-TEST(SimdEqualsScalar, ComposedKernelWithArtificialViscosity) {
+// The whole composed kernel over a column range with a tail (n not a multiple of the width):
+// Jaumann trial, EOS, return mapping, artificial viscosity and the energy iteration together.
+// rho0, e0 and s0 set the magnitudes of density, energy and stress of the random states.
+template <class Kernel>
+void check_composed(const Kernel& kernel, double rho0, double e0, double s0) {
   const std::size_t n = 8 * W + 3;
   struct Store {
     std::vector<double> c[40];
@@ -189,10 +192,10 @@ TEST(SimdEqualsScalar, ComposedKernelWithArtificialViscosity) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     for (auto& v : st.c) v.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      st.c[0][i] = 2700.0 * (1.0 + 0.3 * u(rng));                // rho
+      st.c[0][i] = rho0 * (1.0 + 0.3 * u(rng));                  // rho
       st.c[1][i] = 1e-3;                                         // mass
-      st.c[2][i] = 5e6 * (1.0 + u(rng));                         // energy
-      for (int k = 3; k < 9; ++k) st.c[k][i] = 1e9 * u(rng);     // stress
+      st.c[2][i] = e0 * (1.0 + u(rng));                          // energy
+      for (int k = 3; k < 9; ++k) st.c[k][i] = s0 * u(rng);      // stress
       for (int k = 11; k < 17; ++k) st.c[k][i] = 1e-3 * u(rng);  // deps
       for (int k = 17; k < 20; ++k) st.c[k][i] = 1e-3 * u(rng);  // dspin
       st.c[20][i] = 0.1 * (1.0 + u(rng));                        // plastic strain
@@ -214,20 +217,51 @@ TEST(SimdEqualsScalar, ComposedKernelWithArtificialViscosity) {
     c.heat = st.c[21].data();
     return c;
   };
-  const constitutive::ComposedKernel<eos::Tillotson, strength::ModifiedLundborg, damage::NoDamage>
-      k(eos::Tillotson(test::basalt_tillotson()),
-        strength::ModifiedLundborg{kEl, 90e6, 1.5, 0.8, 1500e6, 0.256, 3.4e6}, {});
   const constitutive::StepParams sp{1e-7, 1e-3, 0.5, 2.0};
   Store a = make(3), b = make(3);
-  k.update(columns(a), 1, n, sp, true);  // unaligned start: exercises the unaligned loads
-  k.update(columns(b), 1, n, sp, false);
-  const double scales[22] = {1, 1, 1e6, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9,  1e3,
-                             1, 1, 1,   1,   1,   1,   1,   1,   1,   1e-2, 1e3};
+  kernel.update(columns(a), 1, n, sp, true);  // unaligned start: exercises the unaligned loads
+  kernel.update(columns(b), 1, n, sp, false);
+  // Pressure and stress on the stress scale (or the EOS's, whichever is larger), energy on its
+  // own, sound speed on sqrt(stress / rho).
+  const double ps = std::max(s0, rho0 * e0);
+  const double scales[22] = {1, 1, e0, ps, ps, ps, ps, ps, ps, ps,   std::sqrt(ps / rho0),
+                             1, 1, 1,  1,  1,  1,  1,  1,  1,  1e-2, 1e3};
   for (int col : {2, 3, 4, 5, 6, 7, 8, 9, 10, 20, 21}) {
     for (std::size_t i = 0; i < n; ++i) {
       ASSERT_TRUE(close(a.c[col][i], b.c[col][i], scales[col])) << "column " << col << " p " << i;
     }
   }
+}
+
+TEST(SimdEqualsScalar, ComposedKernelWithArtificialViscosity) {
+  check_composed(
+      constitutive::ComposedKernel<eos::Tillotson, strength::ModifiedLundborg, damage::NoDamage>(
+          eos::Tillotson(test::basalt_tillotson()),
+          strength::ModifiedLundborg{kEl, 90e6, 1.5, 0.8, 1500e6, 0.256, 3.4e6}, {}),
+      2700.0, 5e6, 1e9);
+}
+
+TEST(SimdEqualsScalar, ComposedKernelOtherModelPairs) {
+  // Each EOS once through the whole kernel (the energy iteration of App. A step 7 evaluates the
+  // EOS twice per point), with a strength model of a different kind each.
+  const auto al = strength::ElasticConstants::from_young_poisson(69e9, 0.33);
+  check_composed(
+      constitutive::ComposedKernel<eos::MieGruneisen, strength::J2Plasticity, damage::NoDamage>(
+          eos::MieGruneisen({2703.0, 5240.0, 1.4, 1.97}), strength::J2Plasticity{al, 300e6, 1e9},
+          {}),
+      2703.0, 1e6, 1e9);
+  check_composed(constitutive::ComposedKernel<eos::TillotsonSimplified, strength::DruckerPrager,
+                                              damage::NoDamage>(
+                     eos::TillotsonSimplified({2700.0, 26.7e9, 0.5, 1.5}),
+                     strength::DruckerPrager{kEl, 50e6, 0.6, 0.2, -30e6}, {}),
+                 2700.0, 1e6, 300e6);
+  check_composed(constitutive::ComposedKernel<eos::IdealGas, strength::Hydro, damage::NoDamage>(
+                     eos::IdealGas({1.0, 1.4}), strength::Hydro{}, {}),
+                 1.0, 2.5, 0.0);
+  check_composed(
+      constitutive::ComposedKernel<eos::LinearElastic, strength::BenzAsphaug, damage::NoDamage>(
+          eos::LinearElastic({2700.0, 30e9}), strength::BenzAsphaug{kEl, 1e9}, {}),
+      2700.0, 1e5, 1e9);
 }
 
 }  // namespace
