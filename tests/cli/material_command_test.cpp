@@ -221,6 +221,24 @@ TEST(MaterialCommand, ListNamesEveryMaterialWithItsSource) {
   EXPECT_EQ(csv_rows(r.out).size(), cat.names().size() + 1);
 }
 
+TEST(MaterialCommand, OtherCatalogueFileIsLoadedAndValidated) {
+  const auto dir = std::filesystem::path(::testing::TempDir());
+  const auto good = dir / "cli_good_catalogue.toml";
+  const auto bad = dir / "cli_bad_catalogue.toml";
+  std::ofstream(good) << "[rock]\nsource = \"test\"\neos = \"linear_elastic\"\n"
+                         "strength = \"hydro\"\nrho0 = 2000.0\nbulk_modulus = 8e9\n";
+  std::ofstream(bad) << "[rock]\nsource = \"test\"\neos = \"linear_elastic\"\n"
+                        "strength = \"hydro\"\nrho0 = -2000.0\nbulk_modulus = 8e9\n";
+  auto r = shatter_material({"rock", "--catalogue", good.string(), "--up", "0", "--csv"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // Acoustic limit of a linear elastic EOS: Us = sqrt(K / rho0) = 2000 m/s (1e-12: one sqrt).
+  EXPECT_NEAR(std::stod(csv_rows(r.out)[1][1]), 2000.0, 1e-12 * 2000.0);
+  r = shatter_material({"rock", "--catalogue", bad.string()});
+  EXPECT_EQ(r.code, kBadInput);
+  EXPECT_NE(r.err.find("cli_bad_catalogue.toml:5"), std::string::npos) << r.err;  // file:line
+  EXPECT_NE(r.err.find("rho0"), std::string::npos) << r.err;
+}
+
 TEST(MaterialCommand, OutWritesTheFileAndNothingToStdout) {
   const auto file = std::filesystem::path(::testing::TempDir()) / "al_hugoniot.csv";
   std::filesystem::remove(file);
