@@ -12,6 +12,8 @@ fragments.csv, scene.toml). Draws into --out-dir:
   damage_vs_radius.png   failure ratio at the end against the initial distance from the target
                          centre (a core: an intact centre under a failed shell)
   energy_error.png       relative total-energy error against time
+  damage_vs_impact_distance.png  failed points at 10 and 20 us against the initial distance from
+                         the impact point (how far the direct wave fails the target)
   cross_sections.png     damage and speed on the symmetry plane at the end, one column per run
                          (the MPM paper's Fig. 6)
 and writes a markdown table of the figures per run (--table, default OUT_DIR/summary.md)."""
@@ -73,6 +75,26 @@ def summarise(run_dir):
     radius = scene["body"]["target"]["radius"]
     r0_by_id = dict(zip(first["id"].astype(np.int64),
                         np.linalg.norm(np.stack([first["x"], first["y"], first["z"]], 1) - centre, axis=1)))
+    # Failure against the distance from the impact point (the target surface point nearest to the
+    # projectile's initial centre), at 10 and 20 us: how far the direct wave fails the target.
+    pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
+    proj = pos0[~in_target].mean(axis=0)
+    if axis >= 0:
+        proj[axis] = centre[axis]  # the half model holds the upper half of the projectile
+    impact = centre + radius * (proj - centre) / np.linalg.norm(proj - centre)
+    d_imp_by_id = dict(zip(first["id"].astype(np.int64), np.linalg.norm(pos0 - impact, axis=1)))
+    d_edges = np.linspace(0.0, 2.0 * radius, 11)
+    fail_by_d = {}
+    for t_want in (10e-6, 20e-6):
+        path = sp.snapshot_at(run_dir, t_want)
+        t_got, snap, _ = sp.read_snapshot(path)
+        sel = snap["body"].astype(int) == tb
+        dist = np.array([d_imp_by_id[i] for i in snap["id"][sel].astype(np.int64)])
+        bins = np.clip(np.digitize(dist, d_edges) - 1, 0, len(d_edges) - 2)
+        bad = snap["damage"][sel] >= threshold
+        fail_by_d[round(t_got * 1e6)] = np.array(
+            [bad[bins == k].mean() if np.any(bins == k) else np.nan for k in range(len(d_edges) - 1)])
+
     last_t = last["body"].astype(int) == tb
     r0 = np.array([r0_by_id[i] for i in last["id"][last_t].astype(np.int64)])
     failed = last["damage"][last_t] >= threshold
@@ -96,6 +118,7 @@ def summarise(run_dir):
         "steps": int(steps),
         "wall_s": wall,
         "pstep_per_s": n_run * steps / wall,
+        "cpu_s": cpu_seconds(run_dir),
         "t_end_us": t_end * 1e6,
         "time_us": ts["time_s"] * 1e6,
         "failure": ts["failure_ratio"],
@@ -110,7 +133,23 @@ def summarise(run_dir):
         "fragments": len(mass),
         "r_edges_mm": edges * 1e3,
         "fail_by_r": fail_by_r,
+        "d_edges_mm": d_edges * 1e3,
+        "fail_by_d": fail_by_d,
     }
+
+
+def cpu_seconds(run_dir):
+    """User + system CPU time from `/usr/bin/time -v -o RUN_DIR.time` if present, else None. On
+    a shared machine the wall time of a one-thread run measures the load; CPU time does not."""
+    path = os.path.normpath(run_dir) + ".time"
+    if not os.path.exists(path):
+        return None
+    total = 0.0
+    with open(path) as f:
+        for line in f:
+            if line.strip().startswith(("User time", "System time")):
+                total += float(line.split(":")[-1])
+    return total
 
 
 def rel_err(value, ref):
@@ -118,7 +157,7 @@ def rel_err(value, ref):
 
 
 def label(s):
-    return f"{s['spacing_mm']:.1f} mm ({s['n_target_full']:,} pts)"
+    return s.get("label") or f"{s['spacing_mm']:.1f} mm ({s['n_target_full']:,} pts)"
 
 
 def plot_failure(runs, out):
@@ -143,7 +182,10 @@ def plot_error_vs_wall(runs, out):
     for ax, key, k, name in ((axes[0], "largest_fraction", 0, "largest fragment mass fraction"),
                              (axes[1], "largest_speed", 1, "largest fragment speed")):
         err = np.array([rel_err(s[key], EXPERIMENT[k]) for s in runs])
-        ax.plot(wall, 100 * err, "o-", color="C0", label="shatter")
+        ax.plot(wall, 100 * err, "o-", color="C0", label="shatter, wall time")
+        cpu = np.array([s["cpu_s"] if s["cpu_s"] else np.nan for s in runs])
+        if np.any(np.isfinite(cpu)):
+            ax.plot(cpu, 100 * err, "s--", color="C0", mfc="none", label="shatter, CPU time")
         for s, e in zip(runs, err):
             ax.annotate(f"{s['spacing_mm']:.1f} mm", (s["wall_s"], 100 * e), fontsize=7,
                         textcoords="offset points", xytext=(4, 4))
@@ -153,7 +195,7 @@ def plot_error_vs_wall(runs, out):
                    label="SPH (Benz & Asphaug)")
         ax.set_xscale("log")
         ax.set_yscale("symlog", linthresh=1.0)
-        ax.set_xlabel("wall time (s, one thread)")
+        ax.set_xlabel("run time (s, one thread)")
         ax.set_ylabel(f"error vs experiment (%)")
         ax.set_title(name, fontsize=9)
         ax.grid(alpha=0.3, which="both")
@@ -173,6 +215,25 @@ def plot_damage_vs_radius(runs, out):
     ax.set_ylim(0, 100)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+
+
+def plot_damage_vs_impact_distance(runs, out):
+    fig, axes = plt.subplots(1, 2, figsize=(8.5, 3.5), sharey=True)
+    for k, ax in enumerate(axes):
+        for j, s in enumerate(runs):
+            t_us = sorted(s["fail_by_d"])[k]
+            mid = 0.5 * (s["d_edges_mm"][1:] + s["d_edges_mm"][:-1])
+            ax.plot(mid, 100 * s["fail_by_d"][t_us], "o-", ms=3, color=f"C{j}", label=label(s))
+            ax.set_title(f"t = {t_us} us", fontsize=9)
+        ax.axvline(30.0, color="gray", ls=":", lw=0.8)  # the target centre is 30 mm away
+        ax.set_xlabel("initial distance from the impact point (mm)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("failed points (%)")
+    axes[0].set_ylim(0, 100)
+    axes[0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out, dpi=100)
     plt.close(fig)
@@ -220,23 +281,31 @@ def plot_cross_sections(runs, out, vmax_speed=10.0):
     plt.close(fig)
 
 
+def cpu_txt(s):
+    return f"{s['cpu_s']:.0f} s" if s["cpu_s"] else "-"
+
+
+def cpu_rate(s):
+    return f"{s['n_run'] * s['steps'] / s['cpu_s']:.3g}" if s["cpu_s"] else "-"
+
+
 def table(runs):
     head = ("| spacing (cell) | target points (full sphere) | largest fragment m/M | its speed (m/s) | "
             "its centre from target centre | 2nd m/M | fragments | failure 40 us | failure at end | max energy error | steps | "
-            "wall time | particle-steps/s |")
-    rows = [head, "|" + "---|" * 13]
+            "wall time | CPU time | particle-steps/s (wall) | particle-steps/CPU-s |")
+    rows = [head, "|" + "---|" * 15]
     for s in runs:
         rows.append(
-            f"| {s['spacing_mm']:.1f} mm ({s['cell_mm']:.1f} mm) | {s['n_target_full']:,} | "
+            f"| {s.get('label') or ''} {s['spacing_mm']:.1f} mm ({s['cell_mm']:.1f} mm) | {s['n_target_full']:,} | "
             f"{s['largest_fraction']:.3f} | {s['largest_speed']:.2f} | {s['largest_offset_mm']:.1f} mm | "
             f"{s['second_fraction']:.3f} | "
             f"{s['fragments']} | {100 * s['failure_40']:.1f}% | {100 * s['failure_end']:.1f}% "
             f"({s['t_end_us']:.0f} us) | {100 * s['max_abs_energy_error']:.2f}% | {s['steps']} | "
-            f"{s['wall_s']:.0f} s | {s['pstep_per_s']:.3g} |")
-    rows.append(f"| experiment | | {EXPERIMENT[0]} | {EXPERIMENT[1]} | core | | | | | | | | |")
-    rows.append(f"| SPH (Benz & Asphaug 1994) | | {SPH[0]} | {SPH[1]} | core | | | | | | | | |")
+            f"{s['wall_s']:.0f} s | {cpu_txt(s)} | {s['pstep_per_s']:.3g} | {cpu_rate(s)} |")
+    rows.append(f"| experiment | | {EXPERIMENT[0]} | {EXPERIMENT[1]} | core | | | | | | | | | | |")
+    rows.append(f"| SPH (Benz & Asphaug 1994) | | {SPH[0]} | {SPH[1]} | core | | | | | | | | | | |")
     rows.append(f"| MPM paper (0.8 mm) | 230,144 | {MPM_PAPER[0]} | {MPM_PAPER[1]} | core | | | | "
-                f"{100 * PAPER_FAILURE_100US:.0f}% (100 us) | < 0.6% | | | |")
+                f"{100 * PAPER_FAILURE_100US:.0f}% (100 us) | < 0.6% | | | | | |")
     return "\n".join(rows) + "\n"
 
 
@@ -245,13 +314,18 @@ def main():
     ap.add_argument("run_dirs", nargs="+")
     ap.add_argument("--out-dir", default="out/lab-convergence")
     ap.add_argument("--table", help="markdown table (default OUT_DIR/summary.md)")
+    ap.add_argument("--labels", nargs="*", help="legend labels, one per RUN_DIR (default: spacing)")
     a = ap.parse_args()
-    runs = sorted((summarise(d) for d in a.run_dirs), key=lambda s: -s["cell_mm"])
+    runs = [summarise(d) for d in a.run_dirs]
+    for s, name in zip(runs, a.labels or []):
+        s["label"] = name
+    runs.sort(key=lambda s: -s["cell_mm"])
     os.makedirs(a.out_dir, exist_ok=True)
     plot_failure(runs, os.path.join(a.out_dir, "failure_ratio.png"))
     plot_error_vs_wall(runs, os.path.join(a.out_dir, "error_vs_walltime.png"))
     plot_damage_vs_radius(runs, os.path.join(a.out_dir, "damage_vs_radius.png"))
     plot_energy(runs, os.path.join(a.out_dir, "energy_error.png"))
+    plot_damage_vs_impact_distance(runs, os.path.join(a.out_dir, "damage_vs_impact_distance.png"))
     plot_cross_sections(runs, os.path.join(a.out_dir, "cross_sections.png"))
     text = table(runs)
     with open(a.table or os.path.join(a.out_dir, "summary.md"), "w") as f:
