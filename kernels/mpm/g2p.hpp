@@ -16,6 +16,7 @@ struct G2PParticles {
   double inv_h;
   double dt_velocity;  // dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (leapfrog, Fig. 16)
   double dt_position;  // dt^{n+1/2}
+  bool pic;            // APIC: the particle takes the grid velocity instead of adding a dt (FLIP)
 };
 
 // Grid arrays after the grid update: acceleration in f*, velocity in p*.
@@ -42,9 +43,15 @@ void g2p_particle(const G2PParticles& in, std::size_t p, const SparseGrid::Coord
       }
     }
   }
-  in.vx[p] += in.dt_velocity * ax;
-  in.vy[p] += in.dt_velocity * ay;
-  in.vz[p] += in.dt_velocity * az;
+  if (in.pic) {
+    in.vx[p] = ux;
+    in.vy[p] = uy;
+    in.vz[p] = uz;
+  } else {
+    in.vx[p] += in.dt_velocity * ax;
+    in.vy[p] += in.dt_velocity * ay;
+    in.vz[p] += in.dt_velocity * az;
+  }
   in.dx[p] = in.dt_position * ux;
   in.dy[p] = in.dt_position * uy;
   in.dz[p] = in.dt_position * uz;

@@ -16,6 +16,8 @@ struct P2GParticles {
   const double *x, *y, *z, *vx, *vy, *vz, *mass, *rho, *size0;
   const double *sxx, *syy, *szz, *sxy, *syz, *sxz;  // null for a momentum-only scatter
   const double *bx, *by, *bz;  // body force per unit mass (Eq. 30); null when there is none
+  // APIC affine velocity C_p, row-major (vgrad_xx .. vgrad_zz); read only by the kAffine scatter
+  const double* vgrad[9];
   double inv_h;
 };
 
@@ -28,7 +30,10 @@ struct P2GScratch {
 
 // kForce: also scatter the internal force -V_p sigma_p . grad N_I (Eq. 29); otherwise only mass
 // and momentum (the MUSL remap of step 6 needs momentum alone).
-template <class Shape, bool kForce>
+// kAffine: APIC momentum m_p (v_p + C_p (x_I - x_p)) instead of m_p v_p (Jiang et al. 2015,
+// Eq. 9 with C_p = B_p D_p^-1 taken as the grid velocity gradient). The shapes reproduce linear
+// fields, sum_I N_I (x_I - x_p) = 0, so the affine term moves no net momentum.
+template <class Shape, bool kForce, bool kAffine = false>
 void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
                const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
                SparseGrid::Nodes& nodes, P2GScratch& s) {
@@ -50,6 +55,20 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
     st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
     const double m = in.mass[p];
     const double mvx = m * in.vx[p], mvy = m * in.vy[p], mvz = m * in.vz[p];
+    // m_p C_p, and the node offsets x_I - x_p per axis
+    double mc[3][3] = {};
+    double ox[W] = {}, oy[W] = {}, oz[W] = {};
+    if constexpr (kAffine) {
+      for (int r = 0; r < 3; ++r) {
+        for (int q = 0; q < 3; ++q) mc[r][q] = m * in.vgrad[3 * r + q][p];
+      }
+      const double h = 1.0 / in.inv_h;
+      for (int a = 0; a < W; ++a) {
+        ox[a] = st.offset(0, a, xi[0], h);
+        oy[a] = st.offset(1, a, xi[1], h);
+        oz[a] = st.offset(2, a, xi[2], h);
+      }
+    }
     double vol = 0.0, sxx = 0.0, syy = 0.0, szz = 0.0, sxy = 0.0, syz = 0.0, sxz = 0.0;
     double mbx = 0.0, mby = 0.0, mbz = 0.0;
     if constexpr (kForce) {
@@ -66,13 +85,26 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
         const double gx_ab = st.dw[0][a] * st.w[1][b];
         const double gy_ab = st.w[0][a] * st.dw[1][b];
         const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
+        // momentum per node: m v (+ m C (x_I - x_p), whose x and y parts are fixed for a, b)
+        double qx = mvx, qy = mvy, qz = mvz;
+        if constexpr (kAffine) {
+          qx += mc[0][0] * ox[a] + mc[0][1] * oy[b];
+          qy += mc[1][0] * ox[a] + mc[1][1] * oy[b];
+          qz += mc[2][0] * ox[a] + mc[2][1] * oy[b];
+        }
         for (int c = 0; c < W; ++c) {
           const int i = row + c;
           const double N = wab * st.w[2][c];
           s.m[i] += m * N;
-          s.px[i] += mvx * N;
-          s.py[i] += mvy * N;
-          s.pz[i] += mvz * N;
+          if constexpr (kAffine) {
+            s.px[i] += (qx + mc[0][2] * oz[c]) * N;
+            s.py[i] += (qy + mc[1][2] * oz[c]) * N;
+            s.pz[i] += (qz + mc[2][2] * oz[c]) * N;
+          } else {
+            s.px[i] += qx * N;
+            s.py[i] += qy * N;
+            s.pz[i] += qz * N;
+          }
           if constexpr (kForce) {
             const double gx = gx_ab * st.w[2][c];
             const double gy = gy_ab * st.w[2][c];

@@ -13,9 +13,10 @@ namespace shatter::kernels {
 template <class Shape>
 struct Stencil {
   static constexpr int W = Shape::kWidth;
-  double w[3][W];   // shape value per axis and node
-  double dw[3][W];  // derivative per axis and node, in 1/cell units (multiply by 1/h)
-  int off[3];       // first stencil node relative to the owner block's first node (0..3)
+  double w[3][W];         // shape value per axis and node
+  double dw[3][W];        // derivative per axis and node, in 1/cell units (multiply by 1/h)
+  int off[3];             // first stencil node relative to the owner block's first node (0..3)
+  std::int64_t first[3];  // first stencil node, global index per axis
 
   // First node of the stencil (global node index per axis) for a particle at xi (cell units).
   static std::int64_t first_node(double xi) {
@@ -29,7 +30,15 @@ struct Stencil {
     const double lp = std::min(half_size, 0.5);
     const int base[3] = {owner.x * SparseGrid::kBlock, owner.y * SparseGrid::kBlock,
                          owner.z * SparseGrid::kBlock};
-    for (int d = 0; d < 3; ++d) off[d] = Shape::weights(xi[d], lp, w[d], dw[d]) - base[d];
+    for (int d = 0; d < 3; ++d) {
+      first[d] = Shape::weights(xi[d], lp, w[d], dw[d]);
+      off[d] = static_cast<int>(first[d] - base[d]);
+    }
+  }
+
+  // Node minus particle position along axis d for stencil node a, in metres (APIC's x_i - x_p).
+  double offset(int d, int a, double xi_d, double h) const {
+    return (static_cast<double>(first[d] + a) - xi_d) * h;
   }
 
   // Global node index of stencil node (a, b, c).

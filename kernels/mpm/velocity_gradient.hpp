@@ -14,11 +14,12 @@ struct GradientParticles {
   double* rho;
   double *exx, *eyy, *ezz, *exy, *eyz, *exz;  // strain increment (tensor components)
   double *wxy, *wyz, *wxz;                    // spin increment, W_ij = (L_ij - L_ji) dt / 2
+  double* vgrad[9];  // APIC: L itself (1/s, row-major) becomes C_p; null for FLIP
   double inv_h;
   double dt;
 };
 
-// Grid velocity in p* (after the MUSL remap).
+// Grid velocity in p*: after the MUSL remap (FLIP), or straight from the grid update (APIC).
 template <class Shape>
 void velocity_gradient_particle(const GradientParticles& in, std::size_t p,
                                 const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
@@ -40,6 +41,11 @@ void velocity_gradient_particle(const GradientParticles& in, std::size_t p,
           for (int q = 0; q < 3; ++q) L[r][q] += v[r] * g[q];
         }
       }
+    }
+  }
+  if (in.vgrad[0] != nullptr) {
+    for (int r = 0; r < 3; ++r) {
+      for (int q = 0; q < 3; ++q) in.vgrad[3 * r + q][p] = in.inv_h * L[r][q];
     }
   }
   const double k = in.dt * in.inv_h;

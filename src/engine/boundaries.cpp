@@ -56,8 +56,9 @@ void Boundaries::constrain(const std::int64_t node[3], double& x, double& y, dou
     const bool on_or_beyond = pl.side < 0 ? i <= pl.index : i >= pl.index;
     if (!on_or_beyond) continue;
     switch (pl.kind) {
+      // Fixed: the plane is at rest; nodes beyond it hold the odd mirror image (see mirror()).
       case BoundaryKind::fixed:
-        x = y = z = 0.0;
+        if (i == pl.index) x = y = z = 0.0;
         break;
       case BoundaryKind::slip:
         *v[pl.axis] = 0.0;
@@ -78,7 +79,14 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
   constexpr int B = SparseGrid::kBlock;
   for (int k = 0; k < count_; ++k) {
     const Plane& pl = planes_[static_cast<std::size_t>(k)];
-    if (pl.kind != BoundaryKind::symmetry) continue;
+    if (pl.kind != BoundaryKind::symmetry && pl.kind != BoundaryKind::fixed) continue;
+    // Symmetry: the images of the particles across the plane are folded in; the normal
+    // component is odd, the tangential ones even. Fixed: nothing lies beyond a wall, but the
+    // field there must be the odd image v(-x) = -v(x) so that the velocity passes through zero at
+    // the wall with its slope intact; zeroing the ghost nodes would also clamp the strain rate
+    // at the wall and makes the quadratic B-spline first order (docs/verification.md).
+    const bool fixed = pl.kind == BoundaryKind::fixed;
+    auto sign = [&](int d) { return fixed || d == pl.axis ? -1.0 : 1.0; };
     double* mom[3] = {N.px.data(), N.py.data(), N.pz.data()};
     double* force[3] = {N.fx.data(), N.fy.data(), N.fz.data()};
     // Visits the ghost nodes within a stencil's reach (3 nodes) of the plane together with
@@ -97,7 +105,7 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
           const bool ghost = pl.side < 0 ? i < pl.index : i > pl.index;
           const std::size_t node =
               std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
-          if (i == pl.index) {
+          if (i == pl.index && !fixed) {
             // On the plane the mirror cancels the normal component.
             mom[pl.axis][node] = 0.0;
             if (mode == kMassMomentumForce) force[pl.axis][node] = 0.0;
@@ -107,7 +115,17 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
           std::int64_t q[3] = {g[0], g[1], g[2]};
           q[pl.axis] = 2 * pl.index - i;
           const std::int64_t pb = grid.find(SparseGrid::key(q[0] >> 2, q[1] >> 2, q[2] >> 2));
-          if (pb < 0) continue;  // no particle reaches the partner: nothing to mirror
+          if (pb < 0) {
+            // No particle reaches the partner: nothing to mirror, and beyond a fixed wall the
+            // image of empty space is at rest.
+            if (fixed) {
+              mom[0][node] = mom[1][node] = mom[2][node] = 0.0;
+              if (mode == kMassMomentumForce) {
+                force[0][node] = force[1][node] = force[2][node] = 0.0;
+              }
+            }
+            continue;
+          }
           const std::size_t partner = static_cast<std::size_t>(pb) * SparseGrid::kBlockNodes +
                                       static_cast<std::size_t>(SparseGrid::local(
                                           static_cast<int>(q[0] & 3), static_cast<int>(q[1] & 3),
@@ -120,18 +138,16 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
     for_ghosts([&](std::size_t ghost, std::size_t partner) {
       if (mode == kMassMomentumForce) N.mass[partner] += N.mass[ghost];
       for (int d = 0; d < 3; ++d) {
-        const double s = d == pl.axis ? -1.0 : 1.0;
-        mom[d][partner] += s * mom[d][ghost];
-        if (mode == kMassMomentumForce) force[d][partner] += s * force[d][ghost];
+        mom[d][partner] += sign(d) * mom[d][ghost];
+        if (mode == kMassMomentumForce) force[d][partner] += sign(d) * force[d][ghost];
       }
     });
     // Ghosts become the mirror image of the completed field.
     for_ghosts([&](std::size_t ghost, std::size_t partner) {
       if (mode == kMassMomentumForce) N.mass[ghost] = N.mass[partner];
       for (int d = 0; d < 3; ++d) {
-        const double s = d == pl.axis ? -1.0 : 1.0;
-        mom[d][ghost] = s * mom[d][partner];
-        if (mode == kMassMomentumForce) force[d][ghost] = s * force[d][partner];
+        mom[d][ghost] = sign(d) * mom[d][partner];
+        if (mode == kMassMomentumForce) force[d][ghost] = sign(d) * force[d][partner];
       }
     });
   }

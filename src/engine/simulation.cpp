@@ -43,6 +43,15 @@ const FieldSet kEngineFields =
     FieldSet{Field::mass,   Field::volume0,  Field::size0,     Field::rho,
              Field::energy, Field::pressure, Field::soundspeed};
 
+// APIC's C_p columns in row-major order, as the transfer kernels index them.
+template <class T>
+void vgrad_columns(ParticleStore& P, T* (&out)[9]) {
+  constexpr Field kOrder[9] = {Field::vgrad_xx, Field::vgrad_xy, Field::vgrad_xz,
+                               Field::vgrad_yx, Field::vgrad_yy, Field::vgrad_yz,
+                               Field::vgrad_zx, Field::vgrad_zy, Field::vgrad_zz};
+  for (int k = 0; k < 9; ++k) out[k] = P.col(kOrder[k]).data();
+}
+
 FieldSet all_fields() {
   FieldSet s;
   for (std::size_t i = 0; i < kFieldCount; ++i) s = s.with(static_cast<Field>(i));
@@ -115,6 +124,12 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
     }
   }
   if (particles_.size() == 0) throw std::invalid_argument("the scene has no particles");
+  if (config_.transfer == TransferKind::apic && config_.shape == ShapeKind::linear) {
+    // C_p = sum v_I grad N_I^T jumps when a point crosses a cell face with linear shapes; the
+    // colliding-sphere test diverges within 50 steps. Jiang et al. (2015) use smooth kernels.
+    throw std::invalid_argument(
+        "solver: transfer 'apic' needs a smooth shape function (ugimp or bspline2), not 'linear'");
+  }
   for (const Group& g : particles_.groups()) {
     if (g.material < 0 || static_cast<std::size_t>(g.material) >= materials_.size() ||
         !materials_[static_cast<std::size_t>(g.material)]) {
@@ -150,6 +165,8 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
     for (std::size_t p = 0; p < particles_.size(); ++p) s[p] = std::cbrt(m[p] / r[p]);
   }
   particles_.require(kEngineFields);
+  // C_p starts at zero: the scene gives velocities, not their gradients.
+  if (config_.transfer == TransferKind::apic) particles_.require(kVelocityGradient);
   particles_.require(IField::id);
   for (const auto& m : materials_) particles_.require(m->fields());
   for (const Group& g : particles_.groups()) {
@@ -249,14 +266,17 @@ void Simulation::Impl::build_stages() {
   }();
   const FieldSet geometry = kPosition | FieldSet{Field::size0};
   using R = Resource;
+  const bool apic = sim.config_.transfer == TransferKind::apic;
+  const FieldSet affine = apic ? kVelocityGradient : FieldSet{};
 
   // 1. sort particles by grid block (and re-order the columns every few steps)
   graph.add({"sort", {geometry, R::kClock}, {all, R::kBlocks}, [this] { sort<Shape>(); }});
   // 1, 3. scatter mass, momentum and internal force to the grid (Eqs. 29, 32, 33)
-  graph.add({"p2g",
-             {geometry | kVelocity | kStress | FieldSet{Field::mass, Field::rho}, R::kBlocks},
-             {{}, R::kGrid},
-             [this] { p2g<Shape>(true); }});
+  graph.add(
+      {"p2g",
+       {geometry | kVelocity | kStress | affine | FieldSet{Field::mass, Field::rho}, R::kBlocks},
+       {{}, R::kGrid},
+       [this] { p2g<Shape>(true); }});
   // 2, 3, 4. boundary conditions and the momentum update on the grid (Eq. 27)
   graph.add({"grid_update", {{}, R::kClock | R::kBlocks}, {{}, R::kGrid | R::kBudget}, [this] {
                grid_update();
@@ -266,15 +286,18 @@ void Simulation::Impl::build_stages() {
              {geometry | FieldSet{Field::mass}, R::kGrid | R::kBlocks | R::kClock},
              {kVelocity, R::kDisplacement | R::kMechanical},
              [this] { g2p<Shape>(); }});
-  // 6. MUSL: updated particle momentum back to the grid, nodal velocity
-  graph.add({"remap",
-             {geometry | kVelocity | FieldSet{Field::mass}, R::kBlocks | R::kBudget},
-             {{}, R::kGrid | R::kBudget},
-             [this] { remap<Shape>(); }});
-  // 7a. strain and spin increments, density (Eqs. 21, 23)
+  // 6. MUSL: updated particle momentum back to the grid, nodal velocity. APIC particles hold
+  // the grid velocity already, so the remap would return it unchanged and is left out.
+  if (!apic) {
+    graph.add({"remap",
+               {geometry | kVelocity | FieldSet{Field::mass}, R::kBlocks | R::kBudget},
+               {{}, R::kGrid | R::kBudget},
+               [this] { remap<Shape>(); }});
+  }
+  // 7a. strain and spin increments, density (Eqs. 21, 23); APIC's C_p
   graph.add({"velocity_gradient",
              {geometry, R::kGrid | R::kBlocks | R::kClock},
-             {kStrainIncrement | kSpinIncrement | FieldSet{Field::rho}, 0},
+             {kStrainIncrement | kSpinIncrement | affine | FieldSet{Field::rho}, 0},
              [this] { velocity_gradient<Shape>(); }});
   // 7b. constitutive update per material group (Eqs. 22, 35; EOS, strength, damage)
   graph.add({"constitutive",
@@ -366,6 +389,8 @@ void Simulation::Impl::p2g(bool with_force) {
   in.rho = P.col(Field::rho).data();
   in.size0 = P.col(Field::size0).data();
   in.inv_h = inv_h();
+  const bool affine = sim.config_.transfer == TransferKind::apic;
+  if (affine) vgrad_columns(P, in.vgrad);
   if (with_force) {
     in.sxx = P.col(Field::sxx).data();
     in.syy = P.col(Field::syy).data();
@@ -396,7 +421,10 @@ void Simulation::Impl::p2g(bool with_force) {
           kernels::P2GScratch scratch;
           for (std::size_t k = r.begin(); k < r.end(); ++k) {
             const std::uint32_t b = blocks[k];
-            if (with_force) {
+            if (with_force && affine) {
+              kernels::p2g_block<Shape, true, true>(in, grid.owned(b), grid.coord(b),
+                                                    grid.neighbours(b), grid.nodes(), scratch);
+            } else if (with_force) {
               kernels::p2g_block<Shape, true>(in, grid.owned(b), grid.coord(b), grid.neighbours(b),
                                               grid.nodes(), scratch);
             } else {
@@ -432,6 +460,7 @@ void Simulation::Impl::g2p() {
   in.inv_h = inv_h();
   in.dt_velocity = 0.5 * (sim.clock_.dt_prev + dt_step);
   in.dt_position = dt_step;
+  in.pic = sim.config_.transfer == TransferKind::apic;
   const double* mass = P.col(Field::mass).data();
   const double half_dt_prev = 0.5 * sim.clock_.dt_prev;
   const Vec3 g = sim.config_.gravity;
@@ -480,6 +509,7 @@ void Simulation::Impl::velocity_gradient() {
   in.wxz = P.col(Field::dspin_xz).data();
   in.inv_h = inv_h();
   in.dt = dt_step;
+  if (sim.config_.transfer == TransferKind::apic) vgrad_columns(P, in.vgrad);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t p = r.begin(); p < r.end(); ++p) {

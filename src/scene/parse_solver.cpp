@@ -9,6 +9,7 @@ namespace shatter::scene {
 namespace {
 
 const std::vector<std::string> kShapes = {"linear", "ugimp", "bspline2"};
+const std::vector<std::string> kTransfers = {"flip", "apic"};
 const std::vector<std::string> kPlanes = {"none", "x", "y", "z"};
 const std::vector<std::string> kBoundaries = {"none", "fixed", "slip", "symmetry", "outflow"};
 const std::vector<std::string> kFaces = {"x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi"};
@@ -27,8 +28,8 @@ void read_solver(Reader& root, Scene& scene) {
   toml::table* t = root.subtable("solver");
   if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
   Reader r(*t, "solver");
-  r.allow({"shape", "cell_size", "cfl", "end_time", "dt_max", "dt_min", "gravity", "symmetry_plane",
-           "reorder_interval", "viscosity"});
+  r.allow({"shape", "transfer", "cell_size", "cfl", "end_time", "dt_max", "dt_min", "gravity",
+           "symmetry_plane", "reorder_interval", "viscosity"});
   r.reject_unknown();
 
   SolverConfig& c = scene.solver;
@@ -36,6 +37,9 @@ void read_solver(Reader& root, Scene& scene) {
   c.shape = shape == "linear"  ? ShapeKind::linear
             : shape == "ugimp" ? ShapeKind::ugimp
                                : ShapeKind::bspline2;
+  // flip: the paper's MUSL step; apic: affine PIC (see TransferKind in engine/config.hpp).
+  const std::string transfer = r.choice("transfer", "flip", kTransfers);
+  c.transfer = transfer == "flip" ? TransferKind::flip : TransferKind::apic;
   c.cell_size = r.positive("cell_size", r.number("cell_size"));
   c.cfl = r.number("cfl", 0.3);
   // Eq. 34 is stable up to CFL = 1.

@@ -45,6 +45,7 @@ namespace {
 SolverConfig column_config(const RunSettings& run, double h) {
   SolverConfig cfg;
   cfg.shape = run.shape;
+  cfg.transfer = run.transfer;
   cfg.cell_size = h;
   cfg.cfl = run.cfl;
   cfg.domain = detail::column_domain(h);

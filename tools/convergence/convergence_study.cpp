@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
   int threads = 1;
   double periods = sv::VibratingBar{}.periods;
   std::string wall = "fixed";
+  std::string transfer = "flip";
   bool append = false;
   app.add_option("-o,--output", out, "CSV file to write");
   app.add_option("--shapes", shapes, "shape functions")->capture_default_str();
@@ -76,6 +77,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--wall", wall, "condition at the clamped ends: fixed or symmetry")
       ->check(CLI::IsMember({"fixed", "symmetry"}))
+      ->capture_default_str();
+  app.add_option("--transfer", transfer, "particle-grid velocity transfer: flip or apic")
+      ->check(CLI::IsMember({"flip", "apic"}))
       ->capture_default_str();
   app.add_flag("--append", append, "append rows to the CSV instead of rewriting it");
   app.add_option("-t,--threads", threads, "worker threads per run")->capture_default_str();
@@ -104,7 +108,11 @@ int main(int argc, char** argv) {
     rows.push_back(r);
   };
   // Runs with mirrored walls are a different problem set-up: name them apart in the table.
-  const std::string suffix = wall == "fixed" ? "" : "_symwall";
+  // So are runs with APIC transfers.
+  const std::string suffix =
+      std::string(wall == "fixed" ? "" : "_symwall") + (transfer == "flip" ? "" : "_apic");
+  const auto transfer_kind =
+      transfer == "flip" ? shatter::TransferKind::flip : shatter::TransferKind::apic;
   for (const auto& p : problems) {
     for (const ShapeKind k : kinds) {
       if (p == "bar") {
@@ -112,7 +120,7 @@ int main(int argc, char** argv) {
         bar.periods = periods;
         bar.wall = wall_kind;
         for (const int n : bar_cells) {
-          const sv::BarErrors e = sv::run_vibrating_bar(bar, {n, k, threads, 0.3});
+          const sv::BarErrors e = sv::run_vibrating_bar(bar, {n, k, threads, 0.3, transfer_kind});
           report({"bar_displacement" + suffix, k, n, e.cell_size, e.displacement_l2, e.wall_s,
                   e.steps, e.particles});
           report({"bar_com_velocity" + suffix, k, n, e.cell_size, e.com_velocity_rms, e.wall_s,
@@ -124,7 +132,8 @@ int main(int argc, char** argv) {
           mms.amplitude = G;
           mms.wall = wall_kind;
           for (const int n : mms_cells) {
-            const sv::MmsErrors e = sv::run_manufactured_solution(mms, {n, k, threads, 0.3});
+            const sv::MmsErrors e =
+                sv::run_manufactured_solution(mms, {n, k, threads, 0.3, transfer_kind});
             // Relative to G so that the two amplitudes share one axis.
             report({name + suffix, k, n, e.cell_size, e.displacement_l2 / G, e.wall_s, e.steps,
                     e.particles});

@@ -62,18 +62,31 @@ enum class Field : std::uint8_t {
   n_flaws,
   weibull_m,
   n_active,
+  // affine velocity of APIC transfers (TransferKind::apic): C_p = grad v at the particle,
+  // row-major (C_ij = dv_i / dx_j), carried from one step's G2P to the next step's P2G
+  vgrad_xx,
+  vgrad_xy,
+  vgrad_xz,
+  vgrad_yx,
+  vgrad_yy,
+  vgrad_yz,
+  vgrad_zx,
+  vgrad_zy,
+  vgrad_zz,
   kCount
 };
 
 inline constexpr std::size_t kFieldCount = static_cast<std::size_t>(Field::kCount);
 
 inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
-    "x",       "y",       "z",       "vx",       "vy",         "vz",        "mass",
-    "volume0", "size0",   "rho",     "energy",   "sxx",        "syy",       "szz",
-    "sxy",     "syz",     "sxz",     "pressure", "soundspeed", "deps_xx",   "deps_yy",
-    "deps_zz", "deps_xy", "deps_yz", "deps_xz",  "dspin_xy",   "dspin_yz",  "dspin_xz",
-    "sdev_xx", "sdev_yy", "sdev_zz", "sdev_xy",  "sdev_yz",    "sdev_xz",   "plastic_strain",
-    "heat",    "damage",  "eps_min", "eps_max",  "n_flaws",    "weibull_m", "n_active"};
+    "x",        "y",        "z",        "vx",       "vy",         "vz",        "mass",
+    "volume0",  "size0",    "rho",      "energy",   "sxx",        "syy",       "szz",
+    "sxy",      "syz",      "sxz",      "pressure", "soundspeed", "deps_xx",   "deps_yy",
+    "deps_zz",  "deps_xy",  "deps_yz",  "deps_xz",  "dspin_xy",   "dspin_yz",  "dspin_xz",
+    "sdev_xx",  "sdev_yy",  "sdev_zz",  "sdev_xy",  "sdev_yz",    "sdev_xz",   "plastic_strain",
+    "heat",     "damage",   "eps_min",  "eps_max",  "n_flaws",    "weibull_m", "n_active",
+    "vgrad_xx", "vgrad_xy", "vgrad_xz", "vgrad_yx", "vgrad_yy",   "vgrad_yz",  "vgrad_zx",
+    "vgrad_zy", "vgrad_zz"};
 
 // Integer columns (64-bit so that particle ids never overflow).
 enum class IField : std::uint8_t { id, body, fragment, kCount };
@@ -128,6 +141,9 @@ inline constexpr FieldSet kStress{Field::sxx, Field::syy, Field::szz,
 inline constexpr FieldSet kStrainIncrement{Field::deps_xx, Field::deps_yy, Field::deps_zz,
                                            Field::deps_xy, Field::deps_yz, Field::deps_xz};
 inline constexpr FieldSet kSpinIncrement{Field::dspin_xy, Field::dspin_yz, Field::dspin_xz};
+inline constexpr FieldSet kVelocityGradient{Field::vgrad_xx, Field::vgrad_xy, Field::vgrad_xz,
+                                            Field::vgrad_yx, Field::vgrad_yy, Field::vgrad_yz,
+                                            Field::vgrad_zx, Field::vgrad_zy, Field::vgrad_zz};
 inline constexpr FieldSet kDeviator{Field::sdev_xx, Field::sdev_yy, Field::sdev_zz,
                                     Field::sdev_xy, Field::sdev_yz, Field::sdev_xz};
 

@@ -22,6 +22,22 @@ constexpr std::string_view name_of(ShapeKind s) {
   return s == ShapeKind::linear ? "linear" : s == ShapeKind::ugimp ? "ugimp" : "bspline2";
 }
 
+// How velocity travels between particles and grid.
+//  flip - the paper's MUSL step (App. A.2): a particle keeps its own velocity and adds the
+//         interpolated grid acceleration; the new momentum is remapped to the grid (step 6)
+//         before the strain update. Non-dissipative, but grid-invisible velocity noise is never
+//         removed: under large deformation it feeds back through the moving particles and grows
+//         (docs/verification.md, manufactured solution with G = 0.05).
+//  apic - affine particle-in-cell (Jiang et al. 2015, "The affine particle-in-cell method"):
+//         a particle takes the grid velocity and carries its gradient C_p, which restores the
+//         affine part of the field that plain PIC would smooth away. Filters the noise, keeps
+//         momentum exact; needs no remap (the grid velocity is already the particles'), so the
+//         step has one transfer pass fewer, at 72 bytes per particle for C_p.
+enum class TransferKind : std::uint8_t { flip, apic };
+constexpr std::string_view name_of(TransferKind t) {
+  return t == TransferKind::flip ? "flip" : "apic";
+}
+
 // Boundary condition on one face of the domain box; the face lies on a grid plane.
 //  none      - open: the sparse grid simply grows (debris may fly anywhere)
 //  fixed     - nodes on and beyond the plane have zero velocity
@@ -56,6 +72,7 @@ struct Domain {
 
 struct SolverConfig {
   ShapeKind shape = ShapeKind::ugimp;
+  TransferKind transfer = TransferKind::flip;
   double cell_size = 0.0;  // h, edge of a grid cell (the paper's d_c)
   // Eq. 34 allows CFL 1; 0.3 leaves room for the sound speed growing within one step in shocks.
   double cfl = 0.3;

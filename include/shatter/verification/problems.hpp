@@ -69,6 +69,7 @@ struct RunSettings {
   ShapeKind shape = ShapeKind::ugimp;
   int threads = 1;
   double cfl = 0.3;
+  TransferKind transfer = TransferKind::flip;
 };
 
 struct BarErrors {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <string>
+#include <tuple>
 
 #include "shatter/engine/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
@@ -33,13 +35,14 @@ Vector3d body_centre(const ParticleStore& P, int body) {
   return c / m;
 }
 
-class CollidingSpheres : public ::testing::TestWithParam<ShapeKind> {};
+class CollidingSpheres : public ::testing::TestWithParam<std::tuple<ShapeKind, TransferKind>> {};
 
 }  // namespace
 
 TEST_P(CollidingSpheres, ConserveMomentumExchangeEnergyAndSeparate) {
   SolverConfig cfg;
-  cfg.shape = GetParam();
+  cfg.shape = std::get<0>(GetParam());
+  cfg.transfer = std::get<1>(GetParam());
   cfg.cell_size = 0.05;  // 20 cells across the unit box, 2 points per cell
   std::vector<MaterialPtr> mat{std::make_shared<LinearElastic>(1000.0, 1000.0, 0.3)};
   ParticleStore s = two_spheres(0.025);
@@ -50,11 +53,12 @@ TEST_P(CollidingSpheres, ConserveMomentumExchangeEnergyAndSeparate) {
   }();
   Simulation sim(cfg, std::move(s), mat, 2);
   const double ke0 = sim.energy().kinetic;
-  double ke_min = ke0, worst_error = 0.0;
+  double ke_min = ke0, worst_error = 0.0, max_error = -1.0;
   while (sim.time() < 4.0) {
     sim.advance_to(std::min(4.0, sim.time() + 0.05));
     ke_min = std::min(ke_min, sim.energy().kinetic);
     worst_error = std::max(worst_error, std::abs(sim.energy().error()));
+    max_error = std::max(max_error, sim.energy().error());
     // Momentum: no boundary and no body force, so it is conserved up to round-off in
     // sum(grad N) = 0 and sum(N) = 1; 1e-12 of sum m|v| allows ~1e4 ulps of accumulated error.
     ASSERT_LT(test::momentum(sim.particles()).norm(), 1e-12 * mv) << "t = " << sim.time();
@@ -78,15 +82,27 @@ TEST_P(CollidingSpheres, ConserveMomentumExchangeEnergyAndSeparate) {
   EXPECT_GT(vsep, 0.0);
   // Total energy: MUSL with the time-centred kinetic energy keeps the error at a few percent
   // for this coarse contact (Sulsky's 2D runs lose ~5% through the no-slip contact); 10% bounds
-  // the drift while a missing energy term or sign (100% errors) fails.
-  EXPECT_LT(worst_error, 0.10);
+  // the drift while a missing energy term or sign (100% errors) fails. APIC smooths the velocity
+  // jump across the no-slip contact into the grid and so dissipates: measured losses of 21%
+  // (ugimp) and 34% (bspline2) by t = 4, on 8 points across a sphere. It must never create
+  // energy (a wrong sign in the affine term does), and the loss stays below 40%.
+  if (cfg.transfer == TransferKind::flip) {
+    EXPECT_LT(worst_error, 0.10);
+  } else {
+    EXPECT_LT(max_error, 1e-3);
+    EXPECT_LT(worst_error, 0.40);
+  }
   RecordProperty("worst_energy_error", std::to_string(worst_error));
   RecordProperty("min_kinetic_fraction", std::to_string(ke_min / ke0));
 }
 
-INSTANTIATE_TEST_SUITE_P(AllShapes, CollidingSpheres,
-                         ::testing::Values(ShapeKind::linear, ShapeKind::ugimp,
-                                           ShapeKind::bspline2),
+INSTANTIATE_TEST_SUITE_P(AllShapesAndTransfers, CollidingSpheres,
+                         ::testing::Values(std::tuple{ShapeKind::linear, TransferKind::flip},
+                                           std::tuple{ShapeKind::ugimp, TransferKind::flip},
+                                           std::tuple{ShapeKind::bspline2, TransferKind::flip},
+                                           std::tuple{ShapeKind::ugimp, TransferKind::apic},
+                                           std::tuple{ShapeKind::bspline2, TransferKind::apic}),
                          [](const auto& param_info) {
-                           return std::string(name_of(param_info.param));
+                           return std::string(name_of(std::get<0>(param_info.param))) + "_" +
+                                  std::string(name_of(std::get<1>(param_info.param)));
                          });

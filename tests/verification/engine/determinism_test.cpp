@@ -4,6 +4,8 @@
 
 #include <cstring>
 #include <memory>
+#include <string>
+#include <tuple>
 
 #include "shatter/engine/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
@@ -14,12 +16,13 @@ using Eigen::Vector3d;
 
 namespace {
 
-std::unique_ptr<Simulation> run(int threads, ShapeKind shape) {
+std::unique_ptr<Simulation> run(int threads, ShapeKind shape, TransferKind transfer) {
   ParticleStore s;
   test::add_sphere(s, 0, Vector3d(0.2, 0.2, 0.2), 0.2, 0.025, 1000.0, Vector3d(1, 1, 0.5), 0);
   test::add_sphere(s, 0, Vector3d(0.62, 0.62, 0.4), 0.2, 0.025, 1000.0, Vector3d(-1, -1, 0), 1);
   SolverConfig cfg;
   cfg.shape = shape;
+  cfg.transfer = transfer;
   cfg.cell_size = 0.05;
   cfg.gravity = Vector3d(0, 0, -9.81);
   cfg.domain.lo.z() = -0.2;
@@ -31,13 +34,14 @@ std::unique_ptr<Simulation> run(int threads, ShapeKind shape) {
   return sim;
 }
 
-class ThreadCount : public ::testing::TestWithParam<ShapeKind> {};
+class ThreadCount : public ::testing::TestWithParam<std::tuple<ShapeKind, TransferKind>> {};
 
 }  // namespace
 
 TEST_P(ThreadCount, OneAndTwoThreadsGiveBitwiseIdenticalState) {
-  const auto a = run(1, GetParam());
-  const auto b = run(2, GetParam());
+  const auto [shape, transfer] = GetParam();
+  const auto a = run(1, shape, transfer);
+  const auto b = run(2, shape, transfer);
   ASSERT_EQ(a->particles().size(), b->particles().size());
   EXPECT_EQ(a->clock().time, b->clock().time);
   EXPECT_EQ(a->energy().kinetic, b->energy().kinetic);
@@ -54,9 +58,13 @@ TEST_P(ThreadCount, OneAndTwoThreadsGiveBitwiseIdenticalState) {
   EXPECT_GT(test::max_abs_stress(a->particles()), 1.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(AllShapes, ThreadCount,
-                         ::testing::Values(ShapeKind::linear, ShapeKind::ugimp,
-                                           ShapeKind::bspline2),
+INSTANTIATE_TEST_SUITE_P(AllShapesAndTransfers, ThreadCount,
+                         ::testing::Values(std::tuple{ShapeKind::linear, TransferKind::flip},
+                                           std::tuple{ShapeKind::ugimp, TransferKind::flip},
+                                           std::tuple{ShapeKind::bspline2, TransferKind::flip},
+                                           std::tuple{ShapeKind::ugimp, TransferKind::apic},
+                                           std::tuple{ShapeKind::bspline2, TransferKind::apic}),
                          [](const auto& param_info) {
-                           return std::string(name_of(param_info.param));
+                           return std::string(name_of(std::get<0>(param_info.param))) + "_" +
+                                  std::string(name_of(std::get<1>(param_info.param)));
                          });
