@@ -38,13 +38,15 @@ struct DruckerPrager {
     const T p_trial = st.p;
     const T tau_trial = vsqrt(j2(s));
 
-    // Shear branch (p* >= p_t).
+    // Shear branch.
     const T fs = tau_trial - yield(p_trial);
     const T dl = vmax(fs, T(0.0)) / (G + K * friction * dilatancy);
     const T p_shear = p_trial + K * dilatancy * dl;
     const T tau_shear = tau_trial - G * dl;
-    // Tension branch (p* < p_t): cut-off pressure and corner strength.
-    const auto tension = p_trial < tension_cutoff;
+    // Tension branch: cut-off pressure and corner strength, only where the shear return would
+    // end below p_t. Choosing it by p* < p_t alone jumped at p* = p_t: the dilatant shear return
+    // from just below p_t ends at p > p_t, admissible, and meets the corner where p_shear = p_t.
+    const auto tension = p_shear < tension_cutoff;
     const T tau_corner = vmin(tau_trial, T(friction * tension_cutoff + cohesion));
 
     const T p = vselect(tension, T(tension_cutoff), p_shear);

@@ -120,5 +120,23 @@ TEST(DruckerPrager, TrialStatesAtTheTensionCutOffStayAdmissible) {
   }
 }
 
+// The return map is continuous across the cut-off: trial pressures 1 Pa either side of p_t with
+// tau* = 1 GPa (far above the 32 MPa corner) return to states 1 kPa apart at most (a 2 Pa step
+// in the input moves the shear return by ~2 Pa). Before the tension branch was chosen by the
+// returned pressure, they landed at (-30, 32) MPa and (157, 144) MPa.
+TEST(DruckerPrager, ReturnIsContinuousAcrossTheTensionCutOff) {
+  const strength::DruckerPrager m{kBasalt, 50e6, 0.6, 0.2, -30e6};
+  double sl[6], sr[6];
+  deviator(sl, 1e9);
+  deviator(sr, 1e9);
+  auto left = state(-30e6 - 1.0, 0.0, 0.0);
+  auto right = state(-30e6 + 1.0, 0.0, 0.0);
+  m.return_map(sl, left);
+  m.return_map(sr, right);
+  EXPECT_NEAR(left.p, right.p, 1e3);
+  EXPECT_NEAR(tau(sl), tau(sr), 1e3);
+  EXPECT_GE(left.p, -30e6);
+}
+
 }  // namespace
 }  // namespace shatter
