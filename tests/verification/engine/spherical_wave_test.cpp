@@ -1,0 +1,338 @@
+// Spherically diverging elastic wave against its exact solution (docs/verification.md,
+// "Spherical elastic wave"). The question it answers: does the engine get the radial and the hoop
+// stress of a diverging wave, and the tension behind it, right (docs/validation-lab-impact.md,
+// Sec. 5, check 1)?
+//
+// Exact solution (derived in tools/spherical_wave.py, which also checks it by differences).
+// Linear elasticity, irrotational motion u = grad(phi), phi_tt = c_p^2 lap(phi). With spherical
+// symmetry w = r phi solves the 1D wave equation w_tt = c_p^2 w_rr, and
+//   u_r  = w_r / r - w / r^2,              v_r = w_rt / r - w_t / r^2,
+//   s_rr = M w_rr / r - 4 G (w_r / r^2 - w / r^3),                          (1)
+//   s_tt = lambda w_rr / r + 2 G (w_r / r^2 - w / r^3),                     (2)
+// M = lambda + 2 G (s_tt = lambda div u + 2 G u_r / r: the hoop stress is where u_r / r enters).
+// Initial state: no displacement, no stress, velocity v0 = grad(psi0) with the C^2 bump
+// psi0 = A (1 - r^2/a^2)^3 on r < a. Then phi(r, 0) = 0, phi_t(r, 0) = psi0, and d'Alembert with
+// the odd extension of r psi0 gives w = F(r - c t) - F(r + c t), F(s) = A a^2 / (16 c) (1 -
+// s^2/a^2)^4 on |s| < a. For c t > a only the outgoing pulse F(r - c t) / r is left, on |r - c t| <
+// a.
+//
+// A velocity start rather than Sharpe's pressurised cavity: the initial state needs no initial
+// stress and no cavity surface (both of which the engine would have to resolve), the solution is
+// a closed-form polynomial, and the wave is compact, so there is an exact zero behind it and the
+// "tail" is unambiguous.
+//
+// Octant model: symmetry planes x = y = z = 0 (the engine folds all three in turn,
+// Boundaries::mirror), a ball of radius R = 4 a, so the outgoing pulse at c t = 2.5 a
+// (1.5 a < r < 3.5 a) has not reached the free surface. Material: the laboratory target's basalt
+// elasticity (E = 53.1 GPa, nu = 0.15), uGIMP, 2 x 2 x 2 points per cell, FLIP: as the lab impact.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "shatter/engine/simulation.hpp"
+#include "shatter/material/linear_elastic.hpp"
+#include "support/lattice.hpp"
+
+using namespace shatter;
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr double kRho = 2700.0, kYoung = 53.1e9, kPoisson = 0.15;
+constexpr double kA = 0.1;  // m, radius of the initial velocity bump
+// Potential amplitude (m^2/s); negative: the initial velocity points outwards, peak 0.86 m/s, so
+// strains stay ~2e-4 and the geometric non-linearity of the updated-Lagrangian step is ~1e-4.
+constexpr double kPsi = -0.05;
+
+struct Exact {
+  double ur, vr, srr, stt;
+};
+
+struct Elastic {
+  double lambda, G, M, c;
+  Elastic() {
+    G = kYoung / (2.0 * (1.0 + kPoisson));
+    const double K = kYoung / (3.0 * (1.0 - 2.0 * kPoisson));
+    lambda = K - 2.0 * G / 3.0;
+    M = lambda + 2.0 * G;
+    c = std::sqrt(M / kRho);
+  }
+};
+
+// n-th derivative of F(s) = k (1 - s^2/a^2)^4 on |s| < a (zero outside), k = A a^2 / (16 c).
+double F(double s, int n, double c) {
+  if (std::abs(s) >= kA) return 0.0;
+  const double k = kPsi * kA * kA / (16.0 * c);
+  const double a2 = kA * kA, q = s * s / a2, one = 1.0 - q;
+  switch (n) {
+    case 0:
+      return k * one * one * one * one;
+    case 1:
+      return k * (-8.0 * s / a2) * one * one * one;
+    default:
+      return k * (-8.0 / a2) * one * one * (1.0 - 7.0 * q);
+  }
+}
+
+// Eqs. (1), (2) and u, v at radius r > 0, time t.
+Exact exact(const Elastic& m, double r, double t) {
+  const double c = m.c, sm = r - c * t, sp = r + c * t;
+  const double w = F(sm, 0, c) - F(sp, 0, c);
+  const double wr = F(sm, 1, c) - F(sp, 1, c);
+  const double wrr = F(sm, 2, c) - F(sp, 2, c);
+  const double wt = -c * (F(sm, 1, c) + F(sp, 1, c));
+  const double wrt = -c * (F(sm, 2, c) + F(sp, 2, c));
+  const double near = wr / (r * r) - w / (r * r * r);  // u_r / r
+  return {wr / r - w / (r * r), wrt / r - wt / (r * r), m.M * wrr / r - 4.0 * m.G * near,
+          m.lambda * wrr / r + 2.0 * m.G * near};
+}
+
+// v0 = grad(psi0) = psi0'(r) x / r = -6 A / a^2 (1 - r^2/a^2)^2 x.
+Vector3d initial_velocity(const Vector3d& x) {
+  const double q = x.squaredNorm() / (kA * kA);
+  if (q >= 1.0) return Vector3d::Zero();
+  return (-6.0 * kPsi / (kA * kA) * (1.0 - q) * (1.0 - q)) * x;
+}
+
+struct WaveErrors {
+  double peak = 0;                                // max |s_rr| of the exact pulse (Pa): the scale
+  double srr_l2 = 0, srr_max = 0;                 // point-wise, relative to `peak`
+  double stt_l2 = 0, stt_max = 0;                 //
+  double v_l2 = 0, v_max = 0;                     // relative to the exact max |v_r|
+  double srr_shell_l2 = 0, stt_shell_l2 = 0;      // shell (width h) means against exact shell means
+  double srr_noise = 0, stt_noise = 0;            // RMS of the point error about its shell mean
+  double stt_tension = 0, stt_tension_exact = 0;  // largest hoop tension, shell means (Pa)
+  double srr_tension = 0, srr_tension_exact = 0;  // largest radial tension, shell means (Pa)
+  double stt_tension_points = 0;                  // largest hoop tension of any point (Pa)
+  double tangential_l2 = 0;  // |s_t1 - s_t2| and shear, which must vanish, relative
+  std::size_t points = 0, sampled = 0;
+  std::uint64_t steps = 0;
+  // Per shell: mean radius, MPM and exact means of s_rr, s_tt, v_r (for the study's plots).
+  std::vector<std::array<double, 7>> profile;
+};
+
+double sq(double x) {
+  return x * x;
+}
+
+// Runs the octant at h = a / cells_per_a to c t = ct_over_a a; compares every point whose radius
+// lies within the pulse's support widened by 2 h (the grid smears the edges over ~2 cells).
+// ct0_over_a > 0 starts from the exact state at c t0 = ct0_over_a a instead of t = 0 (stress and
+// velocity set on the points, displacement ignored: it is O(strain)); with ct0 >= a the wave is
+// then purely outgoing and never focuses at the centre.
+WaveErrors run_spherical_wave(int cells_per_a, double ct_over_a = 2.5, double ct0_over_a = 0.0) {
+  const Elastic m;
+  auto mat = std::make_shared<LinearElastic>(kRho, kYoung, kPoisson);
+  const double h = kA / cells_per_a, R = 4.0 * kA;
+  const double t0 = ct0_over_a * kA / m.c;
+  ParticleStore s;
+  const Range all = test::add_lattice(
+      s, 0, Vector3d::Zero(), Vector3d::Constant(R), h / 2, kRho,
+      [&](const Vector3d& x) { return x.norm() <= R; },
+      [&](const Vector3d& x) -> Vector3d {
+        if (t0 == 0.0) return initial_velocity(x);
+        return exact(m, x.norm(), t0).vr * x.normalized();
+      });
+  if (t0 > 0.0) {
+    s.require({Field::sxx, Field::syy, Field::szz, Field::sxy, Field::syz, Field::sxz});
+    for (std::size_t p = all.begin; p < all.end; ++p) {
+      const Vector3d x(s.col(Field::x)[p], s.col(Field::y)[p], s.col(Field::z)[p]);
+      const Exact ex = exact(m, x.norm(), t0);
+      const Vector3d n = x.normalized();
+      const Eigen::Matrix3d sig =
+          ex.stt * Eigen::Matrix3d::Identity() + (ex.srr - ex.stt) * (n * n.transpose());
+      s.col(Field::sxx)[p] = sig(0, 0);
+      s.col(Field::syy)[p] = sig(1, 1);
+      s.col(Field::szz)[p] = sig(2, 2);
+      s.col(Field::sxy)[p] = sig(0, 1);
+      s.col(Field::syz)[p] = sig(1, 2);
+      s.col(Field::sxz)[p] = sig(0, 2);
+    }
+  }
+  SolverConfig cfg;
+  cfg.cell_size = h;
+  cfg.domain.lo = Vector3d::Zero();
+  cfg.domain.faces = {BoundaryKind::symmetry, BoundaryKind::none,     BoundaryKind::symmetry,
+                      BoundaryKind::none,     BoundaryKind::symmetry, BoundaryKind::none};
+  Simulation sim(cfg, std::move(s), {mat}, 0);
+  const double t = ct_over_a * kA / m.c;
+  sim.advance_to(t - t0);
+  const double t_v = t - 0.5 * sim.clock().dt_prev;
+  // the leapfrog's v^{n+1/2}
+
+  WaveErrors e;
+  e.steps = sim.clock().step;
+  double vpeak = 0;
+  for (int k = 0; k <= 4000; ++k) {
+    const double r = (ct_over_a - 1.0) * kA + 2.0 * kA * k / 4000.0;
+    e.peak = std::max(e.peak, std::abs(exact(m, r, t).srr));
+    vpeak = std::max(vpeak, std::abs(exact(m, r, t_v).vr));
+  }
+  const double r_lo = (ct_over_a - 1.0) * kA - 2 * h, r_hi = (ct_over_a + 1.0) * kA + 2 * h;
+  const auto n_shells = static_cast<std::size_t>(std::ceil((r_hi - r_lo) / h));
+  // Per shell: count, sum of (MPM - exact) for s_rr, s_tt; sums of MPM and exact values.
+  std::vector<double> cnt(n_shells), drr(n_shells), dtt(n_shells), mrr(n_shells), mtt(n_shells),
+      xrr(n_shells), xtt(n_shells), rad(n_shells), mv(n_shells), xv(n_shells);
+  struct Sample {
+    std::size_t shell;
+    double err_rr, err_tt;
+  };
+  std::vector<Sample> samples;
+  const ParticleStore& P = sim.particles();
+  e.points = P.size();
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const Vector3d x(P.col(Field::x)[p], P.col(Field::y)[p], P.col(Field::z)[p]);
+    const double r = x.norm();
+    if (r < r_lo || r > r_hi) continue;
+    const Vector3d n = x / r;
+    Eigen::Matrix3d sig;
+    sig << P.col(Field::sxx)[p], P.col(Field::sxy)[p], P.col(Field::sxz)[p], P.col(Field::sxy)[p],
+        P.col(Field::syy)[p], P.col(Field::syz)[p], P.col(Field::sxz)[p], P.col(Field::syz)[p],
+        P.col(Field::szz)[p];
+    const double srr = n.dot(sig * n);
+    const double stt = 0.5 * (sig.trace() - srr);  // mean of the two tangential normal stresses
+    // Deviation from the spherically symmetric form diag(s_rr, s_tt, s_tt) in the local frame.
+    const Eigen::Matrix3d sym =
+        stt * Eigen::Matrix3d::Identity() + (srr - stt) * (n * n.transpose());
+    const Exact ex = exact(m, r, t);
+    const double vr =
+        Vector3d(P.col(Field::vx)[p], P.col(Field::vy)[p], P.col(Field::vz)[p]).dot(n);
+    const double ev = exact(m, r, t_v).vr;
+    const double err_rr = srr - ex.srr, err_tt = stt - ex.stt;
+    e.srr_l2 += sq(err_rr);
+    e.stt_l2 += sq(err_tt);
+    e.v_l2 += sq(vr - ev);
+    e.srr_max = std::max(e.srr_max, std::abs(err_rr));
+    e.stt_max = std::max(e.stt_max, std::abs(err_tt));
+    e.v_max = std::max(e.v_max, std::abs(vr - ev));
+    e.tangential_l2 += (sig - sym).squaredNorm();
+    e.stt_tension_points = std::max(e.stt_tension_points, stt);
+    const auto k = std::min(n_shells - 1, static_cast<std::size_t>((r - r_lo) / h));
+    cnt[k] += 1;
+    drr[k] += err_rr;
+    dtt[k] += err_tt;
+    mrr[k] += srr;
+    mtt[k] += stt;
+    xrr[k] += ex.srr;
+    xtt[k] += ex.stt;
+    rad[k] += r;
+    mv[k] += vr;
+    xv[k] += ev;
+    samples.push_back({k, err_rr, err_tt});
+  }
+  e.sampled = samples.size();
+  const double N = static_cast<double>(e.sampled);
+  // Equal point volumes, so the point mean is the volume-weighted L2 norm over the shell region.
+  e.srr_l2 = std::sqrt(e.srr_l2 / N) / e.peak;
+  e.stt_l2 = std::sqrt(e.stt_l2 / N) / e.peak;
+  e.v_l2 = std::sqrt(e.v_l2 / N) / vpeak;
+  e.srr_max /= e.peak;
+  e.stt_max /= e.peak;
+  e.v_max /= vpeak;
+  e.tangential_l2 = std::sqrt(e.tangential_l2 / N) / e.peak;
+  double shell_rr = 0, shell_tt = 0;
+  for (std::size_t k = 0; k < n_shells; ++k) {
+    if (cnt[k] == 0) continue;
+    shell_rr += cnt[k] * sq(drr[k] / cnt[k]);
+    shell_tt += cnt[k] * sq(dtt[k] / cnt[k]);
+    e.stt_tension = std::max(e.stt_tension, mtt[k] / cnt[k]);
+    e.stt_tension_exact = std::max(e.stt_tension_exact, xtt[k] / cnt[k]);
+    e.srr_tension = std::max(e.srr_tension, mrr[k] / cnt[k]);
+    e.srr_tension_exact = std::max(e.srr_tension_exact, xrr[k] / cnt[k]);
+    e.profile.push_back({rad[k] / cnt[k], mrr[k] / cnt[k], xrr[k] / cnt[k], mtt[k] / cnt[k],
+                         xtt[k] / cnt[k], mv[k] / cnt[k], xv[k] / cnt[k]});
+  }
+  e.srr_shell_l2 = std::sqrt(shell_rr / N) / e.peak;
+  e.stt_shell_l2 = std::sqrt(shell_tt / N) / e.peak;
+  // Grid-scale noise: the part of each point's error that is not a smooth function of r.
+  for (const Sample& q : samples) {
+    e.srr_noise += sq(q.err_rr - drr[q.shell] / cnt[q.shell]);
+    e.stt_noise += sq(q.err_tt - dtt[q.shell] / cnt[q.shell]);
+  }
+  e.srr_noise = std::sqrt(e.srr_noise / N) / e.peak;
+  e.stt_noise = std::sqrt(e.stt_noise / N) / e.peak;
+  return e;
+}
+
+void print(const char* label, int cells_per_a, const WaveErrors& e) {
+  std::cout << label << " a/h=" << cells_per_a << " points=" << e.points << " sampled=" << e.sampled
+            << " steps=" << e.steps << " peak|s_rr|=" << e.peak << " Pa\n  s_rr L2 " << e.srr_l2
+            << " max " << e.srr_max << " | s_tt L2 " << e.stt_l2 << " max " << e.stt_max
+            << " | v_r L2 " << e.v_l2 << " max " << e.v_max << "\n  shell-mean L2 s_rr "
+            << e.srr_shell_l2 << " s_tt " << e.stt_shell_l2 << " | noise s_rr " << e.srr_noise
+            << " s_tt " << e.stt_noise << " | non-spherical part " << e.tangential_l2
+            << "\n  hoop tension (shell mean) " << e.stt_tension << " exact " << e.stt_tension_exact
+            << " (any point " << e.stt_tension_points << ") | radial tension " << e.srr_tension
+            << " exact " << e.srr_tension_exact << "\n";
+}
+
+}  // namespace
+
+// Tolerances. Measured (docs/verification.md, "Spherical elastic wave"; relative to the exact
+// peak |s_rr|, L2 over the points within the pulse's support + 2 h), a/h = 6 / 8:
+//   s_rr L2 0.473 / 0.327, max 1.42 / 0.88;  s_tt L2 0.095 / 0.064, max 0.38 / 0.20;
+//   v_r L2 0.468 / 0.318 (relative to max |v_r|).
+// The error is almost all a phase lag of the pulse (0.6-0.8 h behind at c t = 2.5 a, most of it
+// picked up where the initial pulse focuses through the centre), which is why it is large at
+// these coarse resolutions and why it shrinks faster than h (observed order 1.3-1.5 from a/h = 6
+// to 16, rising). Bounds, for a/h = 8: 1.25x the measured L2 and max errors. Halving the error
+// needs a/h x 1.6 at order 1.5; the bound on the 6 -> 8 ratio, 1.3 (measured 1.45-1.48), asks for
+// better than order 0.9; an error that does not vanish with h (a mis-folded symmetry plane, a
+// wrong modulus) fails it. Checked: an inverted initial velocity fails 10 of the 13 checks
+// (s_rr L2 0.87); a Poisson ratio of 0.25 in the engine for 0.15 fails the hoop checks (s_tt L2
+// 0.087, hoop tension +73%) but *lowers* the s_rr L2 to 0.17, because its faster wave (+6.6%)
+// cancels the lag: s_rr alone is a weak check at this resolution, s_tt is the sharp one.
+// The question this test exists for is the hoop stress and the tension that follows the pulse
+// (lab impact, docs/validation-lab-impact.md Sec. 5): the largest shell-mean hoop tension must
+// be within 10% of the exact one at a/h = 8 (measured -2.5%; -15% at a/h = 6) and the largest
+// radial tension within 15% (measured +11%), both positive. The grid-scale noise (each point's
+// error about its shell mean) is a quarter of the error (0.08 of the peak at a/h = 8): bound
+// 0.1. Deviation from the spherically symmetric stress diag(s_rr, s_tt, s_tt), 0.019: bound 0.03.
+TEST(SphericalWave, RadialAndHoopStressMatchExact) {
+  const WaveErrors coarse = run_spherical_wave(6);
+  const WaveErrors e = run_spherical_wave(8);
+  print("spherical wave", 6, coarse);
+  print("spherical wave", 8, e);
+  EXPECT_LT(e.srr_l2, 0.41);
+  EXPECT_LT(e.stt_l2, 0.08);
+  EXPECT_LT(e.v_l2, 0.40);
+  EXPECT_LT(e.srr_max, 1.1);
+  EXPECT_LT(e.stt_max, 0.26);
+  EXPECT_GT(coarse.srr_l2 / e.srr_l2, 1.3);
+  EXPECT_GT(coarse.stt_l2 / e.stt_l2, 1.3);
+  EXPECT_GT(coarse.v_l2 / e.v_l2, 1.3);
+  ASSERT_GT(e.stt_tension_exact, 0.15 * e.peak);  // the exact pulse does carry hoop tension
+  EXPECT_NEAR(e.stt_tension / e.stt_tension_exact, 1.0, 0.10);
+  EXPECT_NEAR(e.srr_tension / e.srr_tension_exact, 1.0, 0.15);
+  EXPECT_LT(e.srr_noise, 0.1);
+  EXPECT_LT(e.tangential_l2, 0.03);
+}
+
+// The convergence study of docs/verification.md (minutes; run with
+// --gtest_also_run_disabled_tests --gtest_filter='*SphericalWave*').
+TEST(SphericalWave, DISABLED_ConvergenceStudy) {
+  // SPHERICAL_WAVE_CSV=prefix writes prefix<a/h>.csv with the shell-mean profiles.
+  const char* prefix = std::getenv("SPHERICAL_WAVE_CSV");
+  const char* start = std::getenv("SPHERICAL_WAVE_CT0");  // e.g. 1.2: outgoing start
+  const double ct0 = start ? std::atof(start) : 0.0;
+  for (const int n : {4, 6, 8, 12, 16}) {
+    const WaveErrors e = run_spherical_wave(n, 2.5, ct0);
+    print("study", n, e);
+    if (prefix == nullptr) continue;
+    std::ofstream csv(std::string(prefix) + std::to_string(n) + ".csv");
+    csv << "r_m,srr_mpm_Pa,srr_exact_Pa,stt_mpm_Pa,stt_exact_Pa,vr_mpm_m_per_s,vr_exact_m_per_s\n";
+    for (const auto& row : e.profile) {
+      for (std::size_t k = 0; k < row.size(); ++k) csv << (k ? "," : "") << row[k];
+      csv << "\n";
+    }
+  }
+}

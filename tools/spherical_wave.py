@@ -1,0 +1,308 @@
+#!/usr/bin/python3
+"""Spherically symmetric linear elastic wave: exact solution, checks of its derivation, and the
+tension an outgoing wave of a given radial-stress history must carry.
+
+Usage:
+  spherical_wave.py check                       # derivation checks (t = 0, equation of motion)
+  spherical_wave.py profiles [--out FILE.png]   # the test problem's profiles at t = 2.5 a / c_p
+  spherical_wave.py lab RUN_DIR [--r1 0.015] [--r2 0.03] [--out FILE.png]
+      RUN_DIR: an undamaged `shatter run` of scenes/lab-impact.toml with dense snapshots. Takes
+      the radial-stress history at r1 along the axis from the impact point into the target,
+      propagates it to r2 as an outgoing elastic spherical wave (below) and compares radial and
+      hoop stress there with shatter's.
+
+Theory (docs/verification.md, "Spherical elastic wave"). Irrotational motion u = grad(phi) with
+phi_tt = c_p^2 lap(phi). For spherical symmetry w = r phi solves the 1D wave equation
+w_tt = c_p^2 w_rr, so
+    u_r  = w_r / r - w / r^2,                 v_r = w_rt / r - w_t / r^2,
+    s_rr = M w_rr / r - 4 G (w_r / r^2 - w / r^3),
+    s_tt = lam w_rr / r + 2 G (w_r / r^2 - w / r^3)       (= lam div u + 2 G u_r / r),
+with M = lam + 2 G and lap(phi) = w_rr / r.
+Test problem: phi(r, 0) = 0 (no displacement, no stress) and phi_t(r, 0) = psi0(r), i.e.
+v0 = grad(psi0), with psi0 = A (1 - r^2/a^2)^3 for r < a (C^2 at r = a). d'Alembert with the odd
+extension of r psi0 gives w = F(r - c t) - F(r + c t), F(s) = A a^2 / (16 c) (1 - s^2/a^2)^4
+(|s| < a, else 0). For c t > a only the outgoing F(r - c t) is left: phi = F(r - c t) / r.
+Outgoing wave of a given s_rr history at radius r0: with xi = r0 - c t, w = F(xi) solves
+    M F'' - 4 G F' / r0 + 4 G F / r0^2 = r0 s_rr(xi),  F = F' = 0 ahead of the wave,
+and then s_tt(t) = lam F'' / r0 + 2 G (F' / r0^2 - F / r0^3) at r0.
+"""
+
+import argparse
+import os
+import sys
+
+import numpy as np
+
+
+class Elastic:
+    def __init__(self, rho, young, poisson):
+        self.rho = rho
+        self.G = young / (2 * (1 + poisson))
+        self.K = young / (3 * (1 - 2 * poisson))
+        self.lam = self.K - 2 * self.G / 3
+        self.M = self.lam + 2 * self.G
+        self.c = np.sqrt(self.M / rho)
+
+
+BASALT = Elastic(2700.0, 53.1e9, 0.15)
+
+
+class Bump:
+    """F(s) = k b(s), b = (1 - s^2/a^2)^4 on |s| < a, k = A a^2 / (16 c); derivatives in s."""
+
+    def __init__(self, a, amplitude, c):
+        self.a, self.A, self.c = a, amplitude, c
+        self.k = amplitude * a * a / (16 * c)
+
+    def d(self, s, n):
+        a = self.a
+        q = (s / a) ** 2
+        inside = np.abs(s) < a
+        one = np.where(inside, 1 - q, 0.0)
+        if n == 0:
+            b = one ** 4
+        elif n == 1:
+            b = -8 * s / a**2 * one ** 3
+        elif n == 2:
+            b = -8 / a**2 * one ** 2 * (1 - 7 * q)
+        else:  # n == 3
+            b = 48 * s / a**4 * one * (3 - 7 * q)
+        return self.k * np.where(inside, b, 0.0)
+
+    def psi0(self, r):
+        return np.where(r < self.a, self.A * np.clip(1 - (r / self.a) ** 2, 0, None) ** 3, 0.0)
+
+
+def exact(m, bump, r, t):
+    """u_r, v_r, s_rr, s_tt of the test problem at radius r > 0, time t."""
+    c = m.c
+    sm, sp = r - c * t, r + c * t
+    w = bump.d(sm, 0) - bump.d(sp, 0)
+    wr = bump.d(sm, 1) - bump.d(sp, 1)
+    wrr = bump.d(sm, 2) - bump.d(sp, 2)
+    wt = -c * (bump.d(sm, 1) + bump.d(sp, 1))
+    wrt = -c * (bump.d(sm, 2) + bump.d(sp, 2))
+    ur = wr / r - w / r**2
+    vr = wrt / r - wt / r**2
+    srr = m.M * wrr / r - 4 * m.G * (wr / r**2 - w / r**3)
+    stt = m.lam * wrr / r + 2 * m.G * (wr / r**2 - w / r**3)
+    return ur, vr, srr, stt
+
+
+def rms(x):
+    return np.sqrt(np.mean(x[2:-2] ** 2))
+
+
+def check():
+    m = Elastic(2700.0, 53.1e9, 0.15)
+    a = 0.01
+    bump = Bump(a, -1.0, m.c)
+    r = np.linspace(1e-4, 3 * a, 3001)
+    ur, vr, srr, stt = exact(m, bump, r, 0.0)
+    # t = 0: no displacement, no stress, v = grad(psi0).
+    v0 = np.gradient(bump.psi0(r), r)
+    scale = np.max(np.abs(v0))
+    print(f"t=0: max|u_r| {np.max(np.abs(ur)):.2e}, max|s| {np.max(np.abs(srr)) + np.max(np.abs(stt)):.2e}, "
+          f"max|v - grad psi0| / max|v0| {np.max(np.abs(vr - v0)[5:-5]) / scale:.2e}")
+    # Equation of motion rho v_t = d s_rr/dr + 2 (s_rr - s_tt) / r, and v = u_t, by differences.
+    worst_eom = worst_kin = 0.0
+    for t in (0.3 * a / m.c, 1.7 * a / m.c, 3.0 * a / m.c):
+        dt = 1e-4 * a / m.c
+        r = np.linspace(0.2 * a, 5 * a, 8001)
+        _, v1, _, _ = exact(m, bump, r, t + dt)
+        _, v0_, _, _ = exact(m, bump, r, t - dt)
+        u1, _, _, _ = exact(m, bump, r, t + dt)
+        u0, _, _, _ = exact(m, bump, r, t - dt)
+        ur, vr, srr, stt = exact(m, bump, r, t)
+        lhs = m.rho * (v1 - v0_) / (2 * dt)
+        rhs = np.gradient(srr, r) + 2 * (srr - stt) / r
+        # RMS, not max: F'''' jumps at |s| = a, where central differences are only first order.
+        worst_eom = max(worst_eom, rms(lhs - rhs) / np.max(np.abs(lhs)))
+        worst_kin = max(worst_kin, np.max(np.abs((u1 - u0) / (2 * dt) - vr)) / np.max(np.abs(vr)))
+        # Strains from u_r agree with the stress formulas (Hooke's law).
+        err = np.gradient(ur, r)
+        s_hooke = m.lam * (err + 2 * ur / r) + 2 * m.G * err
+        worst_eom = max(worst_eom, rms(s_hooke - srr) / np.max(np.abs(srr)))
+    print(f"equation of motion and Hooke (relative, by differences): {worst_eom:.2e}; "
+          f"v = u_t: {worst_kin:.2e}")
+    ok = worst_eom < 1e-4 and worst_kin < 1e-5
+    print("OK" if ok else "FAILED")
+    return 0 if ok else 1
+
+
+def profiles(out):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    m = Elastic(2700.0, 53.1e9, 0.15)
+    a = 0.25
+    bump = Bump(a, -1.0, m.c)
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    for tc in (1.5, 2.5, 4.0):
+        r = np.linspace(0.02, 5.5 * a, 2000)
+        ur, vr, srr, stt = exact(m, bump, r, tc * a / m.c)
+        ax[0].plot(r / a, srr, label=f"s_rr, c t = {tc} a")
+        ax[0].plot(r / a, stt, "--", label=f"s_tt, c t = {tc} a")
+        ax[1].plot(r / a, vr, label=f"v_r, c t = {tc} a")
+    ax[0].set_xlabel("r / a")
+    ax[0].set_ylabel("stress (Pa)")
+    ax[0].legend(fontsize=7)
+    ax[1].set_xlabel("r / a")
+    ax[1].set_ylabel("v_r (m/s)")
+    ax[1].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print("wrote", out)
+
+
+def source_from_radial(m, t, srr, r0):
+    """Outgoing elastic wave with radial-stress history srr(t) at r0: returns F, F', F'' on the
+    retarded time t (xi = r0 - c t), by integrating
+        M F'' - 4 G F' / r0 + 4 G F / r0^2 = r0 s_rr
+    from rest ahead of the wave (xi decreases as t grows, so dF/dt = -c F')."""
+    dxi = m.c * (t[1] - t[0])
+    n = len(t)
+    F, Fp, Fpp = np.zeros(n), np.zeros(n), np.zeros(n)
+    for k in range(n):
+        Fpp[k] = (r0 * srr[k] + 4 * m.G * Fp[k] / r0 - 4 * m.G * F[k] / r0**2) / m.M
+        if k + 1 < n:  # symplectic Euler, one step of -dxi
+            Fp[k + 1] = Fp[k] - dxi * Fpp[k]
+            F[k + 1] = F[k] - dxi * Fp[k + 1]
+    return F, Fp, Fpp
+
+
+def wave_at(m, F, Fp, Fpp, r):
+    """Eqs. (1), (2) of the module doc for the outgoing wave w = F(r - c t) at radius r."""
+    near = Fp / r**2 - F / r**3
+    return m.M * Fpp / r - 4 * m.G * near, m.lam * Fpp / r + 2 * m.G * near, Fp / r - F / r**2
+
+
+def read_axis_history(run_dir, radii, width, cone):
+    """Mean radial and hoop stress and largest principal stress of the target points within
+    `width` of each distance in `radii` from the impact point and within `cone` degrees of the
+    line from the impact point through the target centre, at every snapshot."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import shatter_plot as sp
+    files = sp.snapshots(run_dir)
+    _, first, axis = sp.read_snapshot(files[0])
+    body = first["body"].astype(int)
+    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
+    pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
+    centre = pos0[body == target].mean(axis=0)
+    if axis >= 0:
+        centre[axis] = 0.0
+    radius = np.max(np.linalg.norm(pos0[body == target] - centre, axis=1))
+    proj = pos0[body != target].mean(axis=0)
+    if axis >= 0:
+        proj[axis] = centre[axis]
+    n_in = (centre - proj) / np.linalg.norm(centre - proj)
+    impact = centre - radius * n_in
+    tsel = body == target
+    x0 = pos0[tsel] - impact
+    d = np.linalg.norm(x0, axis=1)
+    cosang = x0 @ n_in / np.maximum(d, 1e-12)
+    groups = []
+    for r0 in radii:
+        pick = (np.abs(d - r0) < width) & (cosang > np.cos(np.radians(cone)))
+        groups.append(np.sort(first["id"][tsel][pick].astype(np.int64)))
+    out = {r0: {"t": [], "srr": [], "stt": [], "smax": []} for r0 in radii}
+    for path in files:
+        t, c, _ = sp.read_snapshot(path)
+        ids = c["id"].astype(np.int64)
+        order = np.argsort(ids)
+        for r0, g in zip(radii, groups):
+            sel = order[np.searchsorted(ids[order], g)]
+            s = np.zeros((len(sel), 3, 3))
+            for (i, j), k in zip([(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)],
+                                 ["sxx", "syy", "szz", "sxy", "syz", "sxz"]):
+                s[:, i, j] = c[k][sel]
+                s[:, j, i] = s[:, i, j]
+            x = np.stack([c["x"][sel], c["y"][sel], c["z"][sel]], 1) - impact
+            nn = x / np.linalg.norm(x, axis=1)[:, None]
+            rr = np.einsum("ni,nij,nj->n", nn, s, nn)
+            h = out[r0]
+            h["t"].append(t)
+            h["srr"].append(np.mean(rr))
+            h["stt"].append(np.mean(0.5 * (np.trace(s, axis1=1, axis2=2) - rr)))
+            h["smax"].append(np.mean(np.linalg.eigvalsh(s)[:, -1]))
+    for r0, g in zip(radii, groups):
+        out[r0] = {k: np.array(v) for k, v in out[r0].items()}
+        out[r0]["points"] = len(g)
+    return out, radius
+
+
+def lab(run_dir, r1, r2, out, width, cone):
+    """Takes shatter's radial-stress history at r1 (first passage only, up to the first
+    zero-crossing after the tensile phase), propagates it as an outgoing elastic spherical wave
+    to r2, and compares s_rr and s_tt there with shatter's; also the hoop stress implied at r1."""
+    m = BASALT
+    hist, radius = read_axis_history(run_dir, [r1, r2], width, cone)
+    h1, h2 = hist[r1], hist[r2]
+    t = np.linspace(0, h1["t"][-1], 6001)
+    # First passage at r1: until the echo from the target's far side (2 R - r1 further) returns.
+    t_echo = r1 / m.c + 2 * (2 * radius - r1) / m.c
+    s1 = np.where(t < t_echo, np.interp(t, h1["t"], h1["srr"]), 0.0)
+    F, Fp, Fpp = source_from_radial(m, t, s1, r1)
+    srr1, stt1, ur1 = wave_at(m, F, Fp, Fpp, r1)
+    srr2, stt2, ur2 = wave_at(m, F, Fp, Fpp, r2)
+    t2 = t + (r2 - r1) / m.c
+    for r0, h in ((r1, h1), (r2, h2)):
+        print(f"shatter at {r0 * 1e3:.0f} mm ({h['points']} points, +-{cone} deg): min s_rr "
+              f"{h['srr'].min() / 1e6:.0f}, max s_rr {h['srr'].max() / 1e6:.0f}, max s_tt "
+              f"{h['stt'].max() / 1e6:.0f}, max of the mean largest principal "
+              f"{h['smax'].max() / 1e6:.0f} MPa")
+    print(f"elastic at {r1 * 1e3:.0f} mm from its own s_rr: max s_tt {stt1.max() / 1e6:.0f} MPa, "
+          f"max u_r {ur1.max() * 1e6:.1f} um (u_r / r = {ur1.max() / r1:.1e})")
+    print(f"elastic at {r2 * 1e3:.0f} mm from shatter's s_rr at {r1 * 1e3:.0f} mm: min s_rr "
+          f"{srr2.min() / 1e6:.0f}, max s_rr {srr2.max() / 1e6:.0f}, max s_tt {stt2.max() / 1e6:.0f} MPa")
+    if out:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
+        for a_, r0, h, srr_e, stt_e, te in ((ax[0], r1, h1, srr1, stt1, t),
+                                             (ax[1], r2, h2, srr2, stt2, t2)):
+            a_.plot(h["t"] * 1e6, h["srr"] / 1e6, "o-", ms=3, label="shatter s_rr (radial)")
+            a_.plot(h["t"] * 1e6, h["stt"] / 1e6, "s-", ms=3, label="shatter s_tt (hoop)")
+            a_.plot(h["t"] * 1e6, h["smax"] / 1e6, "^-", ms=3, label="shatter largest principal")
+            tag = "elastic, from its own s_rr" if r0 == r1 else f"elastic, propagated from {r1 * 1e3:.0f} mm"
+            if r0 != r1:
+                a_.plot(te * 1e6, srr_e / 1e6, "b--", label=f"s_rr {tag}")
+            a_.plot(te * 1e6, stt_e / 1e6, "k--", label=f"s_tt {tag}")
+            a_.axhline(0, color="gray", lw=0.5)
+            a_.axhline(40.2, color="r", lw=0.5, ls=":")
+            a_.set_xlim(0, h["t"][-1] * 1e6)
+            a_.set_xlabel("t (us)")
+            a_.set_title(f"{r0 * 1e3:.0f} mm from the impact point (axis +-{cone} deg)", fontsize=9)
+            a_.legend(fontsize=7)
+        ax[0].set_ylabel("stress (MPa); dotted: 40.2 MPa")
+        fig.tight_layout()
+        fig.savefig(out, dpi=110)
+        print("wrote", out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    sub.add_parser("check")
+    p = sub.add_parser("profiles")
+    p.add_argument("--out", default="spherical_wave_profiles.png")
+    p = sub.add_parser("lab")
+    p.add_argument("run_dir")
+    p.add_argument("--r1", type=float, default=0.015)
+    p.add_argument("--r2", type=float, default=0.03)
+    p.add_argument("--width", type=float, default=1.5e-3)
+    p.add_argument("--cone", type=float, default=20.0)
+    p.add_argument("--out")
+    a = ap.parse_args()
+    if a.cmd == "check":
+        return check()
+    if a.cmd == "profiles":
+        profiles(a.out)
+        return 0
+    lab(a.run_dir, a.r1, a.r2, a.out, a.width, a.cone)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
