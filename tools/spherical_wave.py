@@ -253,6 +253,24 @@ def lab(run_dir, r1, r2, out, width, cone):
               f"{h['smax'].max() / 1e6:.0f} MPa")
     print(f"elastic at {r1 * 1e3:.0f} mm from its own s_rr: max s_tt {stt1.max() / 1e6:.0f} MPa, "
           f"max u_r {ur1.max() * 1e6:.1f} um (u_r / r = {ur1.max() / r1:.1e})")
+    # The least tension an elastic wave with the same compressive lobe can carry: s_rr equal to
+    # shatter's compressive lobe and zero after it; the hoop tension then comes from u_r / r.
+    for r0, h in ((r1, h1), (r2, h2)):
+        s0 = np.interp(t, h["t"], h["srr"])
+        k0 = np.argmin(s0)
+        lobe = np.zeros_like(s0, dtype=bool)
+        lo, hi = k0, k0
+        while lo > 0 and s0[lo - 1] < 0:
+            lo -= 1
+        while hi + 1 < len(t) and s0[hi + 1] < 0:
+            hi += 1
+        lobe[lo:hi + 1] = True
+        half = t[s0 <= 0.5 * s0[k0]]
+        Fc = source_from_radial(m, t, np.where(lobe, s0, 0.0), r0)
+        _, sttc, urc = wave_at(m, *Fc, r0)
+        print(f"compressive lobe only at {r0 * 1e3:.0f} mm (peak {-s0[k0] / 1e6:.0f} MPa, "
+              f"{(t[hi] - t[lo]) * 1e6:.1f} us long, FWHM {(half[-1] - half[0]) * 1e6:.1f} us): "
+              f"max s_tt {sttc.max() / 1e6:.0f} MPa, max u_r {urc.max() * 1e6:.1f} um")
     print(f"elastic at {r2 * 1e3:.0f} mm from shatter's s_rr at {r1 * 1e3:.0f} mm: min s_rr "
           f"{srr2.min() / 1e6:.0f}, max s_rr {srr2.max() / 1e6:.0f}, max s_tt {stt2.max() / 1e6:.0f} MPa")
     if out:
@@ -281,12 +299,275 @@ def lab(run_dir, r1, r2, out, width, cone):
         print("wrote", out)
 
 
+def sharpe(a0, r, history, duration, scale_to):
+    """Sharpe's problem: a spherical cavity of radius a0 in an infinite elastic body, loaded by a
+    pressure p(t) (the boundary condition s_rr(a0, t) = -p(t)); the outgoing wave's s_rr, s_tt
+    and u_r at radius r, scaled so that the peak radial compression there is `scale_to` (Pa).
+    p(t): the contact-force history in `history` (CSV: t, F) or a half-sine of `duration`."""
+    m = BASALT
+    t = np.linspace(0, 40e-6, 16001)
+    if history:
+        d = np.loadtxt(history, delimiter=",", skiprows=1)
+        # The first push only: the force up to its first change of sign.
+        end = d[np.argmax(d[:, 1] <= 0), 0] if np.any(d[:, 1] <= 0) else d[-1, 0]
+        p = np.where(t < end, np.clip(np.interp(t, d[:, 0], d[:, 1]), 0, None), 0.0)
+    else:
+        p = np.where(t < duration, np.sin(np.pi * t / duration), 0.0)
+    F, Fp, Fpp = source_from_radial(m, t, -p, a0)
+    srr, stt, ur = wave_at(m, F, Fp, Fpp, r)
+    k = scale_to / -srr.min()
+    srr, stt, ur = srr * k, stt * k, ur * k
+    # Width of the compressive lobe around the peak compression.
+    k0 = np.argmin(srr)
+    lo, hi = k0, k0
+    while lo > 0 and srr[lo - 1] < 0:
+        lo -= 1
+    while hi + 1 < len(t) and srr[hi + 1] < 0:
+        hi += 1
+    width = t[hi] - t[lo]
+    print(f"cavity {a0 * 1e3:.1f} mm, at {r * 1e3:.0f} mm: peak compression {-srr.min() / 1e6:.0f} MPa "
+          f"(compressive phase {width * 1e6:.1f} us), radial tension {srr.max() / 1e6:.0f} MPa, "
+          f"hoop tension {stt.max() / 1e6:.0f} MPa, hoop compression {-stt.min() / 1e6:.0f} MPa, "
+          f"max u_r {ur.max() * 1e6:.1f} um (u_r/r {ur.max() / r:.1e}, 2(lam+G) u_r/r "
+          f"{2 * (m.lam + m.G) * ur.max() / r / 1e6:.0f} MPa)")
+    return t, srr, stt, ur
+
+
+def lab_table(run_dir, cone, window, out):
+    """Per distance from the impact point (2.5 mm bins, points within `cone` degrees of the axis
+    into the target): medians of the peak radial compression, and of the peak radial tension,
+    hoop tension and largest principal stress during the first passage (from the arrival d / c to
+    d / c + window) and over the whole run."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import shatter_plot as sp
+    m = BASALT
+    files = sp.snapshots(run_dir)
+    _, first, axis = sp.read_snapshot(files[0])
+    body = first["body"].astype(int)
+    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
+    pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
+    centre = pos0[body == target].mean(axis=0)
+    if axis >= 0:
+        centre[axis] = 0.0
+    radius = np.max(np.linalg.norm(pos0[body == target] - centre, axis=1))
+    proj = pos0[body != target].mean(axis=0)
+    if axis >= 0:
+        proj[axis] = centre[axis]
+    n_in = (centre - proj) / np.linalg.norm(centre - proj)
+    impact = centre - radius * n_in
+    tsel = body == target
+    x0 = pos0[tsel] - impact
+    d = np.linalg.norm(x0, axis=1)
+    pick = (x0 @ n_in) / np.maximum(d, 1e-12) > np.cos(np.radians(cone))
+    ids = np.sort(first["id"][tsel][pick].astype(np.int64))
+    d = d[pick][np.argsort(first["id"][tsel][pick].astype(np.int64))]
+    n = len(ids)
+    comp = np.zeros(n)
+    keys = ("rr", "tt", "max")
+    first_pass = {k: np.full(n, -np.inf) for k in keys}
+    whole = {k: np.full(n, -np.inf) for k in keys}
+    for path in files[1:]:
+        t, c, _ = sp.read_snapshot(path)
+        allid = c["id"].astype(np.int64)
+        order = np.argsort(allid)
+        sel = order[np.searchsorted(allid[order], ids)]
+        s = np.zeros((n, 3, 3))
+        for (i, j), k in zip([(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)],
+                             ["sxx", "syy", "szz", "sxy", "syz", "sxz"]):
+            s[:, i, j] = c[k][sel]
+            s[:, j, i] = s[:, i, j]
+        x = np.stack([c["x"][sel], c["y"][sel], c["z"][sel]], 1) - impact
+        nn = x / np.linalg.norm(x, axis=1)[:, None]
+        rr = np.einsum("ni,nij,nj->n", nn, s, nn)
+        vals = {"rr": rr, "tt": 0.5 * (np.trace(s, axis1=1, axis2=2) - rr),
+                "max": np.linalg.eigvalsh(s)[:, -1]}
+        comp = np.minimum(comp, rr)
+        early = t <= d / m.c + window
+        for k in keys:
+            whole[k] = np.maximum(whole[k], vals[k])
+            first_pass[k] = np.where(early, np.maximum(first_pass[k], vals[k]), first_pass[k])
+    edges = np.arange(5e-3, 2 * radius + 1e-9, 5e-3)
+    print(f"points within {cone} deg of the axis; first passage: t <= d / c_p + {window * 1e6:.1f} us")
+    print("  d (mm) | points | peak s_rr compr. | first passage: s_rr tens.  s_tt tens.  max princ."
+          " | whole run: max princ.  (MPa, medians)")
+    rows = []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        b = (d >= lo) & (d < hi)
+        if b.sum() < 5:
+            continue
+        med = lambda v: np.median(v[b]) / 1e6  # noqa: E731
+        row = (0.5 * (lo + hi) * 1e3, b.sum(), -med(comp), med(first_pass["rr"]),
+               med(first_pass["tt"]), med(first_pass["max"]), med(whole["max"]))
+        rows.append(row)
+        print("  {:6.1f} | {:6d} | {:16.0f} | {:26.0f} {:11.0f} {:11.0f} | {:21.0f}".format(*row))
+    if out:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        r_ = np.array(rows)
+        fig, ax = plt.subplots(figsize=(6.5, 4))
+        ax.plot(r_[:, 0], r_[:, 2], "s-", label="peak radial compression")
+        ax.plot(r_[:, 0], r_[:, 3], "o-", label="radial tension, first passage")
+        ax.plot(r_[:, 0], r_[:, 4], "^-", label="hoop tension, first passage")
+        ax.plot(r_[:, 0], r_[:, 6], "k:", label="largest principal, whole run")
+        ax.axhline(40.2, color="r", lw=0.6, ls="--", label="40.2 MPa")
+        ax.set_yscale("log")
+        ax.set_xlabel("initial distance from the impact point (mm)")
+        ax.set_ylabel("MPa (medians)")
+        ax.set_title(f"undamaged lab impact, within {cone:.0f} deg of the axis", fontsize=9)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3, which="both")
+        fig.tight_layout()
+        fig.savefig(out, dpi=110)
+        print("wrote", out)
+
+
+def study_plot(prefix, cells, out):
+    """Shell-mean profiles written by the test's convergence study (SPHERICAL_WAVE_CSV=prefix,
+    tests/verification/engine/spherical_wave_test.cpp) against the exact solution."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 3, figsize=(14, 4))
+    cols = (("srr", "s_rr (Pa)"), ("stt", "s_tt, hoop (Pa)"), ("vr", "v_r (m/s)"))
+    for n in cells:
+        d = np.genfromtxt(f"{prefix}{n}.csv", delimiter=",", names=True)
+        r = d["r_m"] / 0.1
+        for a_, (k, _) in zip(ax, cols):
+            name = [c for c in d.dtype.names if c.startswith(k + "_mpm")][0]
+            a_.plot(r, d[name], label=f"shatter, a/h = {n}")
+    for a_, (k, label) in zip(ax, cols):
+        name = [c for c in d.dtype.names if c.startswith(k + "_exact")][0]
+        a_.plot(r, d[name], "k--", lw=2, label="exact")
+        a_.axhline(0, color="gray", lw=0.5)
+        a_.set_xlabel("r / a")
+        a_.set_ylabel(label)
+        a_.legend(fontsize=7)
+    ax[0].set_title("radial stress (shell means, width h)", fontsize=9)
+    ax[1].set_title("hoop stress", fontsize=9)
+    ax[2].set_title("radial velocity", fontsize=9)
+    fig.suptitle("spherical elastic wave at c t = 2.5 a (start from rest, v0 = grad psi0)",
+                 fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out, dpi=100)
+    print("wrote", out)
+
+
+def contact_force(run_dir, out):
+    """Contact force of the projectile on the target along the axis into the target, from the
+    projectile's momentum in consecutive snapshots (F = -dp/dt); writes CSV t_s,F_N for
+    `sharpe --history`."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import shatter_plot as sp
+    files = sp.snapshots(run_dir)
+    _, first, axis = sp.read_snapshot(files[0])
+    body = first["body"].astype(int)
+    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
+    pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
+    centre = pos0[body == target].mean(axis=0)
+    proj = pos0[body != target].mean(axis=0)
+    if axis >= 0:
+        centre[axis] = proj[axis] = 0.0
+    n_in = (centre - proj) / np.linalg.norm(centre - proj)
+    ts, ps = [], []
+    for path in files:
+        t, c, _ = sp.read_snapshot(path)
+        b = c["body"].astype(int) != target
+        v = np.stack([c["vx"][b], c["vy"][b], c["vz"][b]], 1)
+        ts.append(t)
+        ps.append((c["mass"][b] @ v) @ n_in)
+    ts, ps = np.array(ts), np.array(ps)
+    force = -np.gradient(ps, ts)
+    np.savetxt(out, np.c_[ts, force], delimiter=",", header="t_s,F_N", comments="")
+    k = np.argmax(force)
+    print(f"peak contact force {force[k] / 1e3:.0f} kN at {ts[k] * 1e6:.2f} us; impulse "
+          f"{ps[0] - ps.min():.3f} kg m/s; wrote {out}")
+
+
+def lab_noise(run_dir, cell):
+    """Grid-scale noise in the lab impact: per distance from the impact point, the median over
+    target points of the peak (over snapshots) largest principal stress of the point itself and
+    of the mean stress tensor of the points sharing its grid cell (edge `cell`, current
+    positions): the cell mean removes what varies from point to point within a cell."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import shatter_plot as sp
+    files = sp.snapshots(run_dir)
+    _, first, axis = sp.read_snapshot(files[0])
+    body = first["body"].astype(int)
+    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
+    pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
+    centre = pos0[body == target].mean(axis=0)
+    proj = pos0[body != target].mean(axis=0)
+    if axis >= 0:
+        centre[axis] = proj[axis] = 0.0
+    radius = np.max(np.linalg.norm(pos0[body == target] - centre, axis=1))
+    impact = centre + radius * (proj - centre) / np.linalg.norm(proj - centre)
+    tsel = body == target
+    ids = first["id"][tsel].astype(np.int64)
+    order0 = np.argsort(ids)
+    ids = ids[order0]
+    dist = np.linalg.norm(pos0[tsel][order0] - impact, axis=1)
+    peak_p = np.full(len(ids), -np.inf)
+    peak_c = np.full(len(ids), -np.inf)
+    names = ["sxx", "syy", "szz", "sxy", "syz", "sxz"]
+    for path in files[1:]:
+        t, c, _ = sp.read_snapshot(path)
+        allid = c["id"].astype(np.int64)
+        o = np.argsort(allid)
+        sel = o[np.searchsorted(allid[o], ids)]
+        comp = np.stack([c[k][sel] for k in names], 1)
+        x = np.stack([c["x"][sel], c["y"][sel], c["z"][sel]], 1)
+        key = np.floor(x / cell).astype(np.int64)
+        _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        inv = inv.ravel()
+        mean = np.zeros((len(cnt), 6))
+        np.add.at(mean, inv, comp)
+        mean /= cnt[:, None]
+
+        def smax(v):
+            s = np.zeros((len(v), 3, 3))
+            for (i, j), k in zip([(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)], range(6)):
+                s[:, i, j] = v[:, k]
+                s[:, j, i] = v[:, k]
+            return np.linalg.eigvalsh(s)[:, -1]
+        peak_p = np.maximum(peak_p, smax(comp))
+        peak_c = np.maximum(peak_c, smax(mean)[inv])
+    print("  d (mm) | median peak largest principal (MPa): point | cell mean | ratio")
+    for lo in np.arange(0, 2 * radius, 5e-3):
+        b = (dist >= lo) & (dist < lo + 5e-3)
+        if b.sum() < 5:
+            continue
+        mp, mc = np.median(peak_p[b]), np.median(peak_c[b])
+        print(f"  {(lo + 2.5e-3) * 1e3:6.1f} | {mp / 1e6:42.0f} | {mc / 1e6:9.0f} | {mp / mc:5.2f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
     sub.add_parser("check")
     p = sub.add_parser("profiles")
     p.add_argument("--out", default="spherical_wave_profiles.png")
+    p = sub.add_parser("sharpe")
+    p.add_argument("--a0", type=float, default=3.5e-3)
+    p.add_argument("--r", type=float, default=0.03)
+    p.add_argument("--history", help="CSV t_s,F_N: pressure shape (e.g. the contact force)")
+    p.add_argument("--duration", type=float, default=4e-6)
+    p.add_argument("--scale-to", type=float, default=250e6)
+    p = sub.add_parser("study-plot")
+    p.add_argument("prefix")
+    p.add_argument("--cells", type=int, nargs="+", default=[6, 8, 12, 16])
+    p.add_argument("--out", default="profiles.png")
+    p = sub.add_parser("contact-force")
+    p.add_argument("run_dir")
+    p.add_argument("--out", default="contact_force.csv")
+    p = sub.add_parser("lab-noise")
+    p.add_argument("run_dir")
+    p.add_argument("--cell", type=float, default=2.4e-3)
+    p = sub.add_parser("lab-table")
+    p.add_argument("run_dir")
+    p.add_argument("--cone", type=float, default=30.0)
+    p.add_argument("--window", type=float, default=5e-6)
+    p.add_argument("--out")
     p = sub.add_parser("lab")
     p.add_argument("run_dir")
     p.add_argument("--r1", type=float, default=0.015)
@@ -299,6 +580,21 @@ def main():
         return check()
     if a.cmd == "profiles":
         profiles(a.out)
+        return 0
+    if a.cmd == "study-plot":
+        study_plot(a.prefix, a.cells, a.out)
+        return 0
+    if a.cmd == "contact-force":
+        contact_force(a.run_dir, a.out)
+        return 0
+    if a.cmd == "lab-noise":
+        lab_noise(a.run_dir, a.cell)
+        return 0
+    if a.cmd == "lab-table":
+        lab_table(a.run_dir, a.cone, a.window, a.out)
+        return 0
+    if a.cmd == "sharpe":
+        sharpe(a.a0, a.r, a.history, a.duration, a.scale_to)
         return 0
     lab(a.run_dir, a.r1, a.r2, a.out, a.width, a.cone)
     return 0
