@@ -330,7 +330,36 @@ def sharpe(a0, r, history, duration, scale_to):
           f"hoop tension {stt.max() / 1e6:.0f} MPa, hoop compression {-stt.min() / 1e6:.0f} MPa, "
           f"max u_r {ur.max() * 1e6:.1f} um (u_r/r {ur.max() / r:.1e}, 2(lam+G) u_r/r "
           f"{2 * (m.lam + m.G) * ur.max() / r / 1e6:.0f} MPa)")
-    return t, srr, stt, ur
+    return t + (r - a0) / m.c, srr, stt, ur
+
+
+def sharpe_plot(run_dir, history, r, scale_to, out, cone=20.0, width=1.5e-3):
+    """Shatter's stresses at r on the axis against Sharpe's elastic wave driven by the contact
+    force history, for two cavity radii (the projectile radius and twice it)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    hist, _ = read_axis_history(run_dir, [r], width, cone)
+    h = hist[r]
+    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    ax.plot(h["t"] * 1e6, h["srr"] / 1e6, "o-", ms=3, color="C0", label="shatter s_rr")
+    ax.plot(h["t"] * 1e6, h["stt"] / 1e6, "s-", ms=3, color="C1", label="shatter s_tt (hoop)")
+    for a0, ls in ((3.5e-3, "--"), (7e-3, ":")):
+        t, srr, stt, _ = sharpe(a0, r, history, 0.0, scale_to)
+        ax.plot(t * 1e6, srr / 1e6, ls, color="C0", label=f"elastic s_rr, cavity {a0 * 1e3:.1f} mm")
+        ax.plot(t * 1e6, stt / 1e6, ls, color="C1", label=f"elastic s_tt, cavity {a0 * 1e3:.1f} mm")
+    ax.axhline(0, color="gray", lw=0.5)
+    ax.axhline(40.2, color="r", lw=0.6, ls="-.", label="40.2 MPa")
+    ax.set_xlim(0, h["t"][-1] * 1e6)
+    ax.set_xlabel("t (us)")
+    ax.set_ylabel("stress (MPa)")
+    ax.set_title(f"{r * 1e3:.0f} mm from the impact point (axis +-{cone:.0f} deg): shatter, undamaged, "
+                 f"and Sharpe's elastic wave\ndriven by shatter's contact force, scaled to the same "
+                 f"peak compression", fontsize=8)
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print("wrote", out)
 
 
 def lab_table(run_dir, cone, window, out):
@@ -553,6 +582,8 @@ def main():
     p.add_argument("--history", help="CSV t_s,F_N: pressure shape (e.g. the contact force)")
     p.add_argument("--duration", type=float, default=4e-6)
     p.add_argument("--scale-to", type=float, default=250e6)
+    p.add_argument("--run", help="shatter run to overlay (with --out)")
+    p.add_argument("--out")
     p = sub.add_parser("study-plot")
     p.add_argument("prefix")
     p.add_argument("--cells", type=int, nargs="+", default=[6, 8, 12, 16])
@@ -594,7 +625,10 @@ def main():
         lab_table(a.run_dir, a.cone, a.window, a.out)
         return 0
     if a.cmd == "sharpe":
-        sharpe(a.a0, a.r, a.history, a.duration, a.scale_to)
+        if a.run and a.out:
+            sharpe_plot(a.run, a.history, a.r, a.scale_to, a.out)
+        else:
+            sharpe(a.a0, a.r, a.history, a.duration, a.scale_to)
         return 0
     lab(a.run_dir, a.r1, a.r2, a.out, a.width, a.cone)
     return 0
