@@ -7,12 +7,13 @@
 // Per particle:
 //  1. Jaumann rotation and elastic trial of the deviator (Eqs. 22, 35-37).
 //  2. Energy predictor E* = E^n + deps : sigma^n / rho (App. A.2 step 7).
-//  3. EOS at (rho^{n+1}, E*): pressure and c_K (Eqs. 8-12); c_p (Eq. 13).
+//  3. EOS at (rho^{n+1}, E*): pressure and c_K (Eqs. 8-12); intact c_p (Eq. 13).
 //  4. Plastic return of the strength model (App. B, Eqs. 4-6, 41-49), plastic strain and heat.
 //  5. Artificial viscosity q on compression.
 //  6. Damage: the policy evolves D from the intact stress (kernels/damage).
 //  7. Effective stress sigma = (1-D) s - (p* + q) I, p* = (1-D) p in tension (Eq. 14).
 //  8. Energy corrector E^{n+1} = E^n + deps : (sigma^n + sigma^{n+1})/2 / rho (A.2 step 7).
+//  9. Sound speed for the time step (Eq. 34): Eq. 13 with the damaged shear modulus (1-D) G.
 
 #include <cstddef>
 
@@ -97,14 +98,20 @@ class ComposedKernel {
       effective_stress(s, e.p, 0.0, D, sig);
       for (int k = 0; k < 6; ++k) c.stress[k][p] = sig[k];
       c.pressure[p] = e.p;
-      c.soundspeed[p] = longitudinal_speed(e.c2, rho);
+      c.soundspeed[p] = longitudinal_speed(e.c2, rho, D);
     }
   }
 
+  // Eq. 13: c_p = sqrt(4G/(3 rho) + c_K^2) of the intact material (damage = 0), or of material
+  // with damage D, whose deviatoric stress is (1 - D) s (Eq. 14): its shear stiffness is
+  // (1 - D) G, so c_p^2 = 4 (1 - D) G / (3 rho) + c_K^2. Fully damaged debris (D = 1) carries
+  // no shear wave; with the intact G its shear term grows like 1/rho as it expands (39 km/s for
+  // basalt at rho = 20 kg/m^3) and sets a needlessly short step. The bulk term stays whole: in
+  // compression Eq. 14 keeps p; in tension p* = (1 - D) p would lower c_K too, and keeping the
+  // intact c_K there only errs on the safe (shorter-step) side.
   template <class T>
-  T longitudinal_speed(const T& c2, const T& rho) const {
-    // Eq. 13: c_p = sqrt(4G/(3 rho) + c_K^2).
-    return simd::vsqrt(c2 + (4.0 / 3.0) * strength_.elastic.G / rho);
+  T longitudinal_speed(const T& c2, const T& rho, const T& damage = T(0.0)) const {
+    return simd::vsqrt(c2 + (4.0 / 3.0) * strength_.elastic.G * (1.0 - damage) / rho);
   }
 
   template <class T>
@@ -152,7 +159,11 @@ class ComposedKernel {
     strength_.return_map(s, ps);
     const T pres = ps.p;
 
-    // Eq. 13.
+    // Eq. 13 of the intact material: the crack speed c_g = 0.4 c_p of Eq. 19 is that of a crack
+    // tip running through the intact matrix between the cracks (BA95 Sec. 3), not a property of
+    // the damaged particle as a whole; with (1 - D) G a particle's cracks would slow down as it
+    // fails (to 0.4 c_K at D = 1), a feedback the Grady-Kipp model does not have. The viscosity
+    // below uses the bulk c_K, which damage does not change in compression.
     const T cp = longitudinal_speed(st_eos.c2, rho);
 
     // 5. Artificial viscosity.
@@ -190,8 +201,11 @@ class ComposedKernel {
     const T w_new = double_contraction(de, sig);
     store_col(c.energy + p, e_old + 0.5 * (w_old + w_new) / rho_old);
 
+    // 9. Eq. 13 with the damage of the stress just stored (Eq. 14), (1 - D^{n+1}) G, for the
+    // time step (Eq. 34): D never decreases, so the next step's stress is no stiffer than this.
+    const T cp_damaged = Damage::kEnabled ? longitudinal_speed(st_eos.c2, rho, dmg) : cp;
     store_col(c.pressure + p, pres);
-    store_col(c.soundspeed + p, cp + av.speed);
+    store_col(c.soundspeed + p, cp_damaged + av.speed);
     store_if(ptr(c.plastic_strain, p), ps.eps_p);
     store_if(ptr(c.heat, p), ps.heat);
   }
