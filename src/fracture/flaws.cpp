@@ -47,22 +47,26 @@ double local_m(double n_f, double eps_min, double eps_max) {
 // BA95 Sec. 4.3: flaw j = 1, 2, ... with threshold (j / kV)^(1/m) (Eq. 20) goes to a uniformly
 // random particle, until N ln N flaws are placed and every particle holds at least one. The
 // particle is drawn by rank among the sorted ids, so the draw is independent of storage order.
-void benz_asphaug(ParticleStore& store, Range range, const FlawSpec& spec, double kv) {
+// With copies > 1 the body has copies x n particles, N = copies n: ranks [0, n) are the stored
+// particles, the others their mirror images, which take part in the draw but are not stored.
+void benz_asphaug(ParticleStore& store, Range range, const FlawSpec& spec, double kv,
+                  std::size_t copies) {
   const std::size_t n = range.size();
+  const std::size_t n_body = copies * n;
   const auto ids = store.col(IField::id);
   std::vector<std::uint32_t> by_id(n);
   std::iota(by_id.begin(), by_id.end(), 0U);
   std::sort(by_id.begin(), by_id.end(), [&](std::uint32_t a, std::uint32_t b) {
     return ids[range.begin + a] < ids[range.begin + b];
   });
-  std::vector<std::uint64_t> first(n, 0), last(n, 0), count(n, 0);
-  const double nd = static_cast<double>(n);
+  std::vector<std::uint64_t> first(n_body, 0), last(n_body, 0), count(n_body, 0);
+  const double nd = static_cast<double>(n_body);
   const auto target = static_cast<std::uint64_t>(std::ceil(nd * std::log(std::max(nd, 1.0))));
   std::size_t covered = 0;
-  for (std::uint64_t j = 1; j <= target || covered < n; ++j) {
+  for (std::uint64_t j = 1; j <= target || covered < n_body; ++j) {
     const double u = counter_uniform(spec.seed, j, 0);
-    const auto rank = std::min(static_cast<std::size_t>(u * nd), n - 1);
-    const std::uint32_t q = by_id[rank];
+    const auto rank = std::min(static_cast<std::size_t>(u * nd), n_body - 1);
+    const std::size_t q = rank < n ? by_id[rank] : rank;
     if (count[q] == 0) {
       first[q] = j;
       ++covered;
@@ -85,8 +89,9 @@ void benz_asphaug(ParticleStore& store, Range range, const FlawSpec& spec, doubl
 }
 
 // MPM paper Sec. 3.3, the three bullets after Eq. 19, with three independent uniforms per
-// particle id (streams 0..3).
-void resolution_independent(ParticleStore& store, Range range, const FlawSpec& spec, double kv) {
+// particle id (streams 0..3). n_p is that of the whole body, copies x the stored particles.
+void resolution_independent(ParticleStore& store, Range range, const FlawSpec& spec, double kv,
+                            std::size_t copies) {
   const double m = spec.weibull_m;
   const double n_tot = spec.total_flaws;
   const double ten_m = std::pow(10.0, m);
@@ -94,7 +99,7 @@ void resolution_independent(ParticleStore& store, Range range, const FlawSpec& s
     throw std::invalid_argument(
         "flaws: resolution_independent needs total_flaws > 10^m (MPM paper Sec. 3.3; Table 3 "
         "note b uses 1e19 for m = 17.2)");
-  const double n_p = static_cast<double>(range.size());
+  const double n_p = static_cast<double>(copies * range.size());
   if (n_tot < n_p) throw std::invalid_argument("flaws: total_flaws is below the particle count");
   // Binomial(n_tot, 1/n_p) -> normal with mean n_tot/n_p and variance n_tot/n_p (1 - 1/n_p).
   const double mean_nf = n_tot / n_p;
@@ -128,28 +133,32 @@ void resolution_independent(ParticleStore& store, Range range, const FlawSpec& s
 
 }  // namespace
 
-void initialise_flaws(ParticleStore& store, Range range, const FlawSpec& spec) {
+void initialise_flaws(ParticleStore& store, Range range, const FlawSpec& spec, std::size_t copies) {
   check(spec);
+  if (copies == 0) throw std::invalid_argument("flaws: copies must be at least 1");
   if (range.empty()) return;
   if (!store.has(IField::id)) throw std::logic_error("flaws: the particle store has no id column");
   store.require(kFlawFields);
-  const double kv = spec.weibull_k * body_volume(store, range);
+  // V of Eqs. 15-20 is the whole body's: a half model holds half of it.
+  const double kv = spec.weibull_k * static_cast<double>(copies) * body_volume(store, range);
   if (spec.scheme == "benz_asphaug")
-    benz_asphaug(store, range, spec, kv);
+    benz_asphaug(store, range, spec, kv, copies);
   else
-    resolution_independent(store, range, spec, kv);
+    resolution_independent(store, range, spec, kv, copies);
   auto n_active = store.col(Field::n_active);
   std::fill(n_active.begin() + static_cast<std::ptrdiff_t>(range.begin),
             n_active.begin() + static_cast<std::ptrdiff_t>(range.end), 0.0);
 }
 
-FlawStatistics flaw_statistics(const ParticleStore& store, Range range, const FlawSpec& spec) {
+FlawStatistics flaw_statistics(const ParticleStore& store, Range range, const FlawSpec& spec,
+                               std::size_t copies) {
   check(spec);
+  if (copies == 0) throw std::invalid_argument("flaws: copies must be at least 1");
   FlawStatistics s;
   if (range.empty()) return s;
   const double m = spec.weibull_m;
   s.particles = range.size();
-  s.volume = body_volume(store, range);
+  s.volume = static_cast<double>(copies) * body_volume(store, range);
   const double kv = spec.weibull_k * s.volume;
   const auto eps_min = store.col(Field::eps_min);
   const auto eps_max = store.col(Field::eps_max);
@@ -172,6 +181,8 @@ FlawStatistics flaw_statistics(const ParticleStore& store, Range range, const Fl
   }
   const double np = static_cast<double>(s.particles);
   s.mean_flaws = s.total_flaws / np;
+  // The mirror images hold as many flaws again, statistically.
+  s.total_flaws *= static_cast<double>(copies);
   s.mean_local_m = n_multi > 0 ? sum_m / static_cast<double>(n_multi) : 0.0;
   s.eps_min_volume = std::pow(kv, -1.0 / m);
   s.mean_eps_min = sum_eps_min / np;

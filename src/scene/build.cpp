@@ -18,6 +18,24 @@ std::vector<bool> damaged_groups(const Scene& scene) {
   return d;
 }
 
+namespace {
+
+// How many copies of a body's points make the body whose flaws are drawn (MPM paper Sec. 3.3:
+// V and n_p are the body's). A body cut by the symmetry plane is one body of which the half
+// model holds half: its lattice then has a layer at half a spacing from the plane, and the
+// mirror image of that layer is its neighbour across the plane, so the image joins it: 2. A body
+// clear of the plane is one of two separate bodies, each with its own flaws: 1.
+std::size_t flaw_copies(const Scene& scene, const BodySpec& b) {
+  const int a = scene.symmetry_axis;
+  if (a < 0) return 1;
+  for (const Vec3& x : b.fill.points) {
+    if (x[a] < b.spacing) return 2;
+  }
+  return 1;
+}
+
+}  // namespace
+
 BuiltScene build(const Scene& scene) {
   BuiltScene s;
   s.materials = build_materials(scene);
@@ -57,7 +75,7 @@ BuiltScene build(const Scene& scene) {
       P.col(IField::id)[p] = next_id++;
       P.col(IField::body)[p] = static_cast<std::int64_t>(g);
     }
-    if (b.flaws) initialise_flaws(P, r, *b.flaws);
+    if (b.flaws) initialise_flaws(P, r, *b.flaws, flaw_copies(scene, b));
   }
   return s;
 }

@@ -22,19 +22,23 @@ struct FlawSpec {
 };
 
 // Fills eps_min, eps_max, n_flaws, weibull_m (and zeroes n_active) for the particles of `range`
-// (one body; V of Eqs. 15–20 is the sum of their volume0). Random numbers come from a
+// (one body; V of Eqs. 15–20 is the sum of their volume0 and n_p their number, both times
+// `copies`: a body cut by a symmetry plane is simulated as one half, copies = 2, yet its flaws
+// are those of the whole body — with the half's V every threshold would be 2^(1/m) too high and
+// n_f doubled). Random numbers come from a
 // counter-based stream keyed by (seed, particle id) — for benz_asphaug by (seed, flaw index),
 // which picks a particle by its rank among the sorted ids — so the result does not depend on
 // thread count or particle order. Requires IField::id and Field::volume0; registers the flaw
 // columns. Throws std::invalid_argument on an unknown scheme or non-physical parameters
 // (m <= 0, k <= 0, or n_tot <= 10^m for resolution_independent, which the paper requires).
-void initialise_flaws(ParticleStore& store, Range range, const FlawSpec& spec);
+void initialise_flaws(ParticleStore& store, Range range, const FlawSpec& spec,
+                      std::size_t copies = 1);
 
 // Flaw statistics of one body, to check against MPM paper Eq. 16.
 struct FlawStatistics {
-  std::size_t particles = 0;
-  double volume = 0.0;                 // V = sum of volume0 [m^3]
-  double total_flaws = 0.0;            // sum of n_f over particles
+  std::size_t particles = 0;           // stored particles (of the half, for a half model)
+  double volume = 0.0;                 // V = copies x sum of volume0 [m^3]: the whole body
+  double total_flaws = 0.0;            // copies x sum of n_f over particles: the whole body
   double mean_flaws = 0.0;             // mean n_f per particle
   double mean_local_m = 0.0;           // mean m_p over particles with n_f > 1
   double eps_min_volume = 0.0;         // eps_min,V = (k V)^(-1/m)
@@ -47,7 +51,9 @@ struct FlawStatistics {
   double eq16_activation_strain = 0.0;
 };
 
-FlawStatistics flaw_statistics(const ParticleStore& store, Range range, const FlawSpec& spec);
+// `copies` as for initialise_flaws: the statistics are those of the whole body.
+FlawStatistics flaw_statistics(const ParticleStore& store, Range range, const FlawSpec& spec,
+                               std::size_t copies = 1);
 
 // Reads the flaw keys of a grady_kipp DamageSpec's params (see kernels/damage/policies.hpp):
 // weibull_m, weibull_k, total_flaws, explicit_flaws (1 = benz_asphaug), seed. Keys it does not
