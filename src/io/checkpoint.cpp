@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -34,28 +35,24 @@ Clock read_clock(hid_t file) {
   return c;
 }
 
+// The energy budget's members, written and read by one table so the two cannot drift apart.
+constexpr std::pair<const char*, double EnergyBudget::*> kEnergyTerms[] = {
+    {"kinetic", &EnergyBudget::kinetic},     {"internal", &EnergyBudget::internal},
+    {"potential", &EnergyBudget::potential}, {"boundary_work", &EnergyBudget::boundary_work},
+    {"outflow", &EnergyBudget::outflow},     {"initial", &EnergyBudget::initial},
+    {"scale", &EnergyBudget::scale},
+};
+
 void write_energy(hid_t file, const EnergyBudget& e) {
   h5::Handle g = h5::create_group(file, "energy");
   h5::set_attr(g.get(), "units", std::string_view("J"));
-  h5::set_attr(g.get(), "kinetic", e.kinetic);
-  h5::set_attr(g.get(), "internal", e.internal);
-  h5::set_attr(g.get(), "potential", e.potential);
-  h5::set_attr(g.get(), "boundary_work", e.boundary_work);
-  h5::set_attr(g.get(), "outflow", e.outflow);
-  h5::set_attr(g.get(), "initial", e.initial);
-  h5::set_attr(g.get(), "scale", e.scale);
+  for (const auto& [name, member] : kEnergyTerms) h5::set_attr(g.get(), name, e.*member);
 }
 
 EnergyBudget read_energy(hid_t file) {
   h5::Handle g = h5::open_group(file, "energy");
   EnergyBudget e;
-  e.kinetic = h5::get_attr_double(g.get(), "kinetic");
-  e.internal = h5::get_attr_double(g.get(), "internal");
-  e.potential = h5::get_attr_double(g.get(), "potential");
-  e.boundary_work = h5::get_attr_double(g.get(), "boundary_work");
-  e.outflow = h5::get_attr_double(g.get(), "outflow");
-  e.initial = h5::get_attr_double(g.get(), "initial");
-  e.scale = h5::get_attr_double(g.get(), "scale");
+  for (const auto& [name, member] : kEnergyTerms) e.*member = h5::get_attr_double(g.get(), name);
   return e;
 }
 
@@ -73,6 +70,18 @@ OutputCursor read_cursor(hid_t file) {
   c.next_snapshot_time = h5::get_attr_double(g.get(), "next_snapshot_time");
   c.next_checkpoint_time = h5::get_attr_double(g.get(), "next_checkpoint_time");
   return c;
+}
+
+// Every column the saved store holds, real or integer, into the live store.
+template <class FieldEnum>
+void copy_columns(ParticleStore& live, const ParticleStore& saved, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto f = static_cast<FieldEnum>(i);
+    if (!saved.has(f)) continue;
+    live.require(f);
+    const auto src = saved.col(f);
+    std::copy(src.begin(), src.end(), live.col(f).begin());
+  }
 }
 
 }  // namespace
@@ -129,20 +138,8 @@ void restore_columns(ParticleStore& live, const ParticleStore& saved) {
   if (live.size() != saved.size() || live.groups().size() != saved.groups().size()) {
     throw std::logic_error("restore_columns: the stores hold different particles");
   }
-  for (std::size_t i = 0; i < kFieldCount; ++i) {
-    const auto f = static_cast<Field>(i);
-    if (!saved.has(f)) continue;
-    live.require(f);
-    const auto src = saved.col(f);
-    std::copy(src.begin(), src.end(), live.col(f).begin());
-  }
-  for (std::size_t i = 0; i < kIFieldCount; ++i) {
-    const auto f = static_cast<IField>(i);
-    if (!saved.has(f)) continue;
-    live.require(f);
-    const auto src = saved.col(f);
-    std::copy(src.begin(), src.end(), live.col(f).begin());
-  }
+  copy_columns<Field>(live, saved, kFieldCount);
+  copy_columns<IField>(live, saved, kIFieldCount);
 }
 
 }  // namespace shatter::io
