@@ -547,10 +547,11 @@ void Simulation::Impl::outflow() {
   const auto m = P.col(Field::mass), e = P.col(Field::energy);
   const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
   const Vec3 g = sim.config_.gravity;
-  double carried = 0.0;
+  double carried = 0.0, carried_internal = 0.0;
   for (std::size_t p = 0; p < P.size(); ++p) {
     if (!boundaries.outside_outflow(Vec3(x[p], y[p], z[p]))) continue;
     leaving[p] = 1;
+    carried_internal += m[p] * e[p];
     carried += 0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]) + m[p] * e[p] -
                m[p] * (g.x() * x[p] + g.y() * y[p] + g.z() * z[p]);
   }
@@ -560,6 +561,13 @@ void Simulation::Impl::outflow() {
                          sim.clock_.step);
   }
   sim.energy_.outflow += carried;
+  // The internal energy reported with this step is the sum made at the end of the previous one
+  // (internal_next), which still holds the departed particles: without this their internal
+  // energy would count twice in this step's budget, once there and once in `carried` (a
+  // single-row spike of the energy error, +0.3 to +0.5 % in the lab impact), and drop out of the
+  // internal sum one row later. Kinetic and potential energy are dropped from this step's sums
+  // below, so all three leave the budget in the step that books them as outflow.
+  internal_next -= carried_internal;
   // The particles still carry this step's mechanical energy in kinetic[]/potential[]; drop the
   // departed ones so the energy sum below matches the remaining particles.
   std::size_t k = 0;
