@@ -46,6 +46,10 @@ struct Record {
   double dt_first = 0.0;  // stable dt of the initial state (Eq. 34)
   double dt_min = std::numeric_limits<double>::infinity();
   double dt_max = 0.0;
+  // max over steps of (dt taken) / (stable dt of the state it left): the step's effective CFL
+  // divided by the configured one.
+  double worst_step_ratio = 0.0;
+  std::uint64_t retakes = 0;        // steps the engine took again (Simulation::retakes)
   double worst_energy_error = 0.0;  // max over steps of |EnergyBudget::error()|
   double final_energy_error = 0.0;
   double max_pressure = 0.0;  // Pa, over all points and steps
@@ -155,6 +159,7 @@ Record run(const std::string& name, const std::vector<std::string>& sets,
   r.dt_first = sim.clock().dt;
   try {
     while (sim.time() < scene.end_time) {
+      const double t_before = sim.time();
       if (sim.time() + sim.clock().dt >= scene.end_time) {
         sim.advance_to(scene.end_time);
       } else {
@@ -167,6 +172,7 @@ Record run(const std::string& name, const std::vector<std::string>& sets,
       }
       r.dt_min = std::min(r.dt_min, sim.clock().dt);
       r.dt_max = std::max(r.dt_max, sim.clock().dt);
+      r.worst_step_ratio = std::max(r.worst_step_ratio, (sim.time() - t_before) / sim.clock().dt);
       r.worst_energy_error = std::max(r.worst_energy_error, std::abs(sim.energy().error()));
       sample(sim, scene, r);
     }
@@ -175,6 +181,7 @@ Record run(const std::string& name, const std::vector<std::string>& sets,
   }
   r.time = sim.time();
   r.steps = sim.clock().step;
+  r.retakes = sim.retakes();
   r.final_energy_error = sim.energy().error();
   r.bbox_blocks_last = bounding_box_blocks(sim);
   if (r.error.empty()) {
@@ -184,12 +191,13 @@ Record run(const std::string& name, const std::vector<std::string>& sets,
   if (after) after(sim, r);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf(
-      "[ %s ] %llu steps to t = %.3g s, dt %.3g .. %.3g s (first %.3g, min/first %.3f), energy "
-      "error max %.3e final %.3e, p_max %.3g Pa, E_max %.3g J/kg, blocks %zu .. %zu (box %.0f), "
-      "%.1f s wall\n",
-      name.c_str(), static_cast<unsigned long long>(r.steps), r.time, r.dt_min, r.dt_max,
-      r.dt_first, r.dt_min / r.dt_first, r.worst_energy_error, r.final_energy_error, r.max_pressure,
-      r.max_energy, r.blocks_first, r.blocks_max, r.bbox_blocks_last, r.seconds);
+      "[ %s ] %llu steps (%llu retaken) to t = %.3g s, dt %.3g .. %.3g s (first %.3g, min/first "
+      "%.3f), largest dt taken / next stable dt %.3f, energy error max %.3e final %.3e, p_max "
+      "%.3g Pa, E_max %.3g J/kg, blocks %zu .. %zu (box %.0f), %.1f s wall\n",
+      name.c_str(), static_cast<unsigned long long>(r.steps),
+      static_cast<unsigned long long>(r.retakes), r.time, r.dt_min, r.dt_max, r.dt_first,
+      r.dt_min / r.dt_first, r.worst_step_ratio, r.worst_energy_error, r.final_energy_error,
+      r.max_pressure, r.max_energy, r.blocks_first, r.blocks_max, r.bbox_blocks_last, r.seconds);
   for (std::size_t b = 0; b < r.regions.size(); ++b) {
     std::printf("  %s: most points at once per Tillotson region:", r.bodies[b].c_str());
     for (std::size_t i = 0; i < kRegions; ++i)
@@ -245,11 +253,19 @@ TEST(HypervelocityImpact, FifteenKmPerSecondReachesTillotsonVapourRegionsStably)
   const Record r = run("hypervelocity-15kms", {kCoarse, "solver.end_time=6.0e-6"});
   // Energy: the paper keeps the error below 0.6 % at 3.2 km/s and 0.8 mm spacing. Here the shock
   // is ~20 times stronger in energy, the projectile only ~2 cells across, and most of the energy
-  // goes through the artificial viscosity within a few steps of contact; the coarse run measures
-  // ~3 %, and 6 % flags a doubling (an energy blow-up grows without bound).
+  // goes through the artificial viscosity within a few steps of contact. The coarse run measured
+  // 2.5 % while the contact step ran at an effective CFL of 1.37, and measures 0.39 % since that
+  // step is retaken; 1 % flags the contact error coming back (an energy blow-up grows without
+  // bound).
   // dt: after contact max(c + |v|) is set by the shocked nylon and the viscosity's signal speed
   // (~4x the 15 km/s of the first step in the coarse run); a factor 20 would be a collapse.
-  expect_stable(r, 0.06, 0.05);
+  expect_stable(r, 0.01, 0.05);
+  // First contact: the signal speed jumps ~4x within the contact step. Without step control that
+  // step ran at an effective CFL of cfl x 4.3 = 1.3 and made the +1.8 % energy error by itself
+  // (docs/stability.md, observation 2); the engine now takes such a step again, so no accepted
+  // step exceeds retake_ratio (2) times the stable step of the state it leaves.
+  EXPECT_GT(r.retakes, 0u) << "contact did not trigger step control";
+  EXPECT_LE(r.worst_step_ratio, 2.0);
   // The nylon (Ecv = 2.4 MJ/kg) is shocked far past complete vaporisation and releases into the
   // hot expanded branch (Eq. 9). The basalt under it takes ~10 MJ/kg, between incipient (4.72)
   // and complete (18.2 MJ/kg) vaporisation, and expands into the mixing branch (Eq. 10).

@@ -53,8 +53,14 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // One MUSL step of size clock().dt.
+  // One MUSL step of size clock().dt. When the step leaves a state whose stable step (Eq. 34) is
+  // shorter than the step taken by more than config().retake_ratio (a sudden stiffening, e.g.
+  // first contact at hypervelocity), the state before the step is restored and the step taken
+  // again with the shorter dt, up to kMaxRetakes times; the caller sees one step of that size.
   void step();
+  static constexpr int kMaxRetakes = 4;
+  // Steps taken again so far (each retake counts once).
+  std::uint64_t retakes() const { return retakes_; }
   // Steps until time() reaches t; the last step is shortened to land on t exactly.
   void advance_to(double t);
 
@@ -85,6 +91,7 @@ class Simulation {
   int threads_ = 0;
   Clock clock_;
   EnergyBudget energy_;
+  std::uint64_t retakes_ = 0;
   std::unique_ptr<Impl> impl_;
 };
 
