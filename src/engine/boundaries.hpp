@@ -33,7 +33,7 @@ class Boundaries {
   double integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass) const;
 
   // Steps 6-7: constraints on the remapped momentum, then v_I = P_I / M_I in p*. Returns the
-  // kinetic energy the constraints removed.
+  // nodal kinetic energy the constraints removed (a diagnostic: no particle velocity changes).
   double velocities(SparseGrid& grid, double empty_mass) const;
 
  private:

@@ -89,10 +89,11 @@ BarErrors run_vibrating_bar(const VibratingBar& problem, const RunSettings& run)
   Simulation sim(cfg, std::move(column.particles), materials, run.threads);
 
   const double amplitude = problem.centre_of_mass_velocity(0.0);
-  double max_err = 0.0, sum_sq = 0.0;
+  double max_err = 0.0, sum_sq = 0.0, energy_max = 0.0;
   std::uint64_t samples = 0;
   double t_x = 0.0, t_v = 0.0;
   run_to(sim, problem.periods * problem.period(), [&](double tx, double tv) {
+    energy_max = std::max(energy_max, std::abs(sim.energy().error()));
     const ParticleStore& P = sim.particles();
     const auto m = P.col(Field::mass), vx = P.col(Field::vx);
     double mv = 0.0, mass = 0.0;
@@ -113,6 +114,7 @@ BarErrors run_vibrating_bar(const VibratingBar& problem, const RunSettings& run)
   const auto x = P.col(Field::x), vx = P.col(Field::vx);
   BarErrors out;
   out.com_velocity_max = max_err;
+  out.energy_error_max = energy_max;
   out.com_velocity_rms =
       std::sqrt(sum_sq / static_cast<double>(std::max<std::uint64_t>(samples, 1)));
   out.displacement_l2 = detail::mass_rms(P,

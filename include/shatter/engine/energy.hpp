@@ -11,7 +11,7 @@ struct EnergyBudget {
   double kinetic = 0.0;        // sum 1/2 m v^2 (v at the half step the integrator holds)
   double internal = 0.0;       // sum m E: thermal + strain energy
   double potential = 0.0;      // -sum m g.x (uniform gravity)
-  double boundary_work = 0.0;  // energy removed by fixed/slip boundaries (positive = removed)
+  double boundary_work = 0.0;  // energy constraints took from the particles (APIC only; +)
   double outflow = 0.0;        // energy carried away by particles that left through outflow
   double initial = 0.0;        // kinetic + internal + potential at t = 0
   double scale = 0.0;          // largest |kinetic| + |internal| seen: the error's denominator

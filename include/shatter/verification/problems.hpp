@@ -80,6 +80,9 @@ struct BarErrors {
   // Mass-weighted L2 error at the end, relative to the amplitudes v0 / omega and v0.
   double displacement_l2 = 0.0;
   double velocity_l2 = 0.0;
+  // Largest |Simulation::energy().error()| over every step: the bar loses no energy through its
+  // clamped end, so this is the integrator's error plus any mis-booked boundary work.
+  double energy_error_max = 0.0;
   double cell_size = 0.0;
   double wall_s = 0.0;  // set-up and run
   std::uint64_t steps = 0;
