@@ -73,9 +73,14 @@ struct ModifiedLundborg {
     using simd::vselect;
     using simd::vsqrt;
     const double G = elastic.G;
-    const double kq = elastic.K * dilatancy;
     const T tau_trial = vsqrt(j2(s));
     const T p_trial = st.p;
+    // Dilatancy is shear-induced bulking against a confining pressure, so Eq. 5b acts only for
+    // p* > 0. Without confinement there is nothing to bulk against, and a fully damaged particle
+    // (Y = 0 in tension) would turn all of each step's shear into K q_psi dlambda of compression:
+    // free-flying debris at 1% of rho0 reached +1 GPa, expanded under it to E = -4e7 J/kg and
+    // shot out at 9 km/s (lab impact, Y0 = 10 MPa, 97 us; docs/materials.md).
+    const T kq = vselect(p_trial > 0.0, T(elastic.K * dilatancy), T(0.0));
     const T melt = melt_factor(st.heat);
     const T dl_max = tau_trial / G;  // tau >= 0 bounds the multiplier
 

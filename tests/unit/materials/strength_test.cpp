@@ -178,15 +178,38 @@ TEST(ModifiedLundborg, ReturnLandsOnSurfaceWithEq5) {
       const double p_trial = p;
       kML.return_map(s, st);
       EXPECT_LE(std::abs(f_ml(kML, s, st, 1e5)), 1e-9 * 3e9) << "D=" << d << " p=" << p;
-      // Eq. 5b/5c: p - p* = K q_psi dl and tau* - tau = G dl give the same dl.
+      // Eq. 5b/5c: p - p* = K q_psi dl and tau* - tau = G dl give the same dl; dilatancy acts
+      // only under confinement (p* > 0), so q_psi is 0 for the tension and zero-pressure states.
+      const double q = p_trial > 0.0 ? 0.256 : 0.0;
       const double dl = (3e9 - tau(s)) / kBasalt.G;
-      EXPECT_NEAR(st.p - p_trial, kBasalt.K * 0.256 * dl, 1e-9 * std::abs(p_trial) + 1e-3);
+      EXPECT_NEAR(st.p - p_trial, kBasalt.K * q * dl, 1e-9 * std::abs(p_trial) + 1e-3);
       // Eq. 6c: deps_bar = dl sqrt(1/3 + 2/9 q_psi^2), to 1e-12 relative.
-      EXPECT_NEAR(st.deps_p, dl * std::sqrt(1.0 / 3.0 + 2.0 / 9.0 * 0.256 * 0.256),
+      EXPECT_NEAR(st.deps_p, dl * std::sqrt(1.0 / 3.0 + 2.0 / 9.0 * q * q),
                   1e-12 * st.deps_p + 1e-18);
       EXPECT_GE(st.heat, 1e5);  // dQ >= 0 (Eq. 40 clamped)
     }
   }
+}
+
+TEST(ModifiedLundborg, DilatancyNeedsConfinement) {
+  // Fully damaged debris in tension has no strength (Eq. 48 held at 0 for p < 0), so the whole
+  // trial shear flows plastically. Before the confinement condition, Eq. 5b turned it into
+  // K q_psi tau*/G of compression: 1.1 GPa from tau* = 3 GPa, which in the lab impact inflated
+  // free-flying debris and shot it out at 9 km/s. Now p stays p* exactly and tau returns to 0.
+  // Under confinement (p* = +1 MPa) the same shear must still dilate (p rises by > 100 MPa).
+  for (double p : {-50e6, -1.0}) {
+    double s[6];
+    shear(s, 3e9);
+    auto st = state(p, 1.0);
+    kML.return_map(s, st);
+    EXPECT_EQ(st.p, p);
+    EXPECT_LE(tau(s), 1e-9 * 3e9);
+  }
+  double s[6];
+  shear(s, 3e9);
+  auto st = state(1e6, 1.0);
+  kML.return_map(s, st);
+  EXPECT_GT(st.p, 1e6 + 100e6);
 }
 
 TEST(ModifiedLundborg, StaysOnSurfaceUnderContinuedLoading) {
