@@ -19,23 +19,8 @@ void BM_VelocityGradient(benchmark::State& state) {
   bench::Prepared<Shape> body(state.range(0));
   ParticleStore& P = body.store;
   const SparseGrid& grid = body.grid;
-  kernels::GradientParticles in{};
-  in.x = P.col(Field::x).data();
-  in.y = P.col(Field::y).data();
-  in.z = P.col(Field::z).data();
-  in.size0 = P.col(Field::size0).data();
-  in.rho = P.col(Field::rho).data();
-  in.exx = P.col(Field::deps_xx).data();
-  in.eyy = P.col(Field::deps_yy).data();
-  in.ezz = P.col(Field::deps_zz).data();
-  in.exy = P.col(Field::deps_xy).data();
-  in.eyz = P.col(Field::deps_yz).data();
-  in.exz = P.col(Field::deps_xz).data();
-  in.wxy = P.col(Field::dspin_xy).data();
-  in.wyz = P.col(Field::dspin_yz).data();
-  in.wxz = P.col(Field::dspin_xz).data();
-  in.inv_h = 1.0 / bench::kCell;
-  in.dt = 1e-12;  // repeated density updates stay at rho0
+  // dt = 1e-12: repeated density updates stay at rho0.
+  kernels::GradientParticles in = engine::gradient_inputs(P, 1.0 / bench::kCell, 1e-12);
   tbb::task_arena arena(static_cast<int>(state.range(1)));
   arena.execute([&] {
     for (auto _ : state) {

@@ -19,18 +19,8 @@ void BM_G2P(benchmark::State& state) {
   const SparseGrid& grid = body.grid;
   const std::size_t n = P.size();
   AlignedVector<double> dx(n), dy(n), dz(n), kinetic(n), potential(n);
-  kernels::G2PParticles in{};
-  in.x = P.col(Field::x).data();
-  in.y = P.col(Field::y).data();
-  in.z = P.col(Field::z).data();
-  in.size0 = P.col(Field::size0).data();
-  in.vx = P.col(Field::vx).data();
-  in.vy = P.col(Field::vy).data();
-  in.vz = P.col(Field::vz).data();
-  in.dx = dx.data();
-  in.dy = dy.data();
-  in.dz = dz.data();
-  in.inv_h = 1.0 / bench::kCell;
+  kernels::G2PParticles in =
+      engine::g2p_inputs(P, 1.0 / bench::kCell, dx.data(), dy.data(), dz.data());
   // Tiny steps so that repeated kicks leave the velocities where they are.
   in.dt_velocity = 1e-12;
   in.dt_position = 1e-12;

@@ -10,6 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "../../src/engine/kernel_inputs.hpp"  // engine-internal: the engine's input set-up
 #include "bodies.hpp"
 #include "mpm/g2p.hpp"
 #include "mpm/p2g.hpp"
@@ -19,27 +20,9 @@ namespace shatter::bench {
 
 inline constexpr std::size_t kParticleGrain = 2048;  // as the engine
 
+// The engine's own input set-up (src/engine/kernel_inputs.hpp), at the bench's cell size.
 inline kernels::P2GParticles p2g_inputs(ParticleStore& P, bool with_force) {
-  kernels::P2GParticles in{};
-  in.x = P.col(Field::x).data();
-  in.y = P.col(Field::y).data();
-  in.z = P.col(Field::z).data();
-  in.vx = P.col(Field::vx).data();
-  in.vy = P.col(Field::vy).data();
-  in.vz = P.col(Field::vz).data();
-  in.mass = P.col(Field::mass).data();
-  in.rho = P.col(Field::rho).data();
-  in.size0 = P.col(Field::size0).data();
-  in.inv_h = 1.0 / kCell;
-  if (with_force) {
-    in.sxx = P.col(Field::sxx).data();
-    in.syy = P.col(Field::syy).data();
-    in.szz = P.col(Field::szz).data();
-    in.sxy = P.col(Field::sxy).data();
-    in.syz = P.col(Field::syz).data();
-    in.sxz = P.col(Field::sxz).data();
-  }
-  return in;
+  return engine::p2g_inputs(P, 1.0 / kCell, with_force);
 }
 
 // P2G (kForce) or the MUSL remap's momentum-only scatter (!kForce), as Simulation::Impl::p2g.

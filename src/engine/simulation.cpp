@@ -11,10 +11,8 @@
 #include <tbb/task_arena.h>
 
 #include "engine/boundaries.hpp"
+#include "engine/kernel_inputs.hpp"
 #include "engine/stage_graph.hpp"
-#include "mpm/g2p.hpp"
-#include "mpm/p2g.hpp"
-#include "mpm/velocity_gradient.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 
 namespace shatter {
@@ -414,26 +412,10 @@ void Simulation::Impl::sort() {
 template <class Shape>
 void Simulation::Impl::p2g(bool with_force) {
   ParticleStore& P = sim.particles_;
-  kernels::P2GParticles in{};
-  in.x = P.col(Field::x).data();
-  in.y = P.col(Field::y).data();
-  in.z = P.col(Field::z).data();
-  in.vx = P.col(Field::vx).data();
-  in.vy = P.col(Field::vy).data();
-  in.vz = P.col(Field::vz).data();
-  in.mass = P.col(Field::mass).data();
-  in.rho = P.col(Field::rho).data();
-  in.size0 = P.col(Field::size0).data();
-  in.inv_h = inv_h();
+  kernels::P2GParticles in = engine::p2g_inputs(P, inv_h(), with_force);
   const bool affine = sim.config_.transfer == TransferKind::apic;
   if (affine) vgrad_columns(P, in.vgrad);
   if (with_force) {
-    in.sxx = P.col(Field::sxx).data();
-    in.syy = P.col(Field::syy).data();
-    in.szz = P.col(Field::szz).data();
-    in.sxy = P.col(Field::sxy).data();
-    in.syz = P.col(Field::syz).data();
-    in.sxz = P.col(Field::sxz).data();
     if (sim.config_.body_force) {
       for (auto* v : {&bx, &by, &bz}) v->assign(P.size(), 0.0);
       sim.config_.body_force(sim.clock_.time, P, bx.data(), by.data(), bz.data());
@@ -488,18 +470,7 @@ void Simulation::Impl::grid_update() {
 template <class Shape>
 void Simulation::Impl::g2p() {
   ParticleStore& P = sim.particles_;
-  kernels::G2PParticles in{};
-  in.x = P.col(Field::x).data();
-  in.y = P.col(Field::y).data();
-  in.z = P.col(Field::z).data();
-  in.size0 = P.col(Field::size0).data();
-  in.vx = P.col(Field::vx).data();
-  in.vy = P.col(Field::vy).data();
-  in.vz = P.col(Field::vz).data();
-  in.dx = dx.data();
-  in.dy = dy.data();
-  in.dz = dz.data();
-  in.inv_h = inv_h();
+  kernels::G2PParticles in = engine::g2p_inputs(P, inv_h(), dx.data(), dy.data(), dz.data());
   in.dt_velocity = 0.5 * (sim.clock_.dt_prev + dt_step);
   in.dt_position = dt_step;
   in.pic = sim.config_.transfer == TransferKind::apic;
@@ -535,23 +506,7 @@ void Simulation::Impl::remap() {
 template <class Shape>
 void Simulation::Impl::velocity_gradient() {
   ParticleStore& P = sim.particles_;
-  kernels::GradientParticles in{};
-  in.x = P.col(Field::x).data();
-  in.y = P.col(Field::y).data();
-  in.z = P.col(Field::z).data();
-  in.size0 = P.col(Field::size0).data();
-  in.rho = P.col(Field::rho).data();
-  in.exx = P.col(Field::deps_xx).data();
-  in.eyy = P.col(Field::deps_yy).data();
-  in.ezz = P.col(Field::deps_zz).data();
-  in.exy = P.col(Field::deps_xy).data();
-  in.eyz = P.col(Field::deps_yz).data();
-  in.exz = P.col(Field::deps_xz).data();
-  in.wxy = P.col(Field::dspin_xy).data();
-  in.wyz = P.col(Field::dspin_yz).data();
-  in.wxz = P.col(Field::dspin_xz).data();
-  in.inv_h = inv_h();
-  in.dt = dt_step;
+  kernels::GradientParticles in = engine::gradient_inputs(P, inv_h(), dt_step);
   if (sim.config_.transfer == TransferKind::apic) vgrad_columns(P, in.vgrad);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
