@@ -114,9 +114,9 @@ TEST(VerificationScenes, EverySceneParsesAndBuilds) {
 // measured 1.56e-2 and 7.5e-3, the engine test's own numbers, so the 64-body scene is the engine
 // problem. The period from the ten zero crossings: measured 10.004 s; 0.5 % rejects a wrong
 // modulus or density (a 1 % error in E moves T by 0.5 %). Energy: kinetic + internal is
-// compared with its start (measured drift 6.6e-5), not EnergyBudget::error(): that books
-// ~0.5 % per period of "boundary work" at the clamped end although the bar loses none (its
-// amplitude holds), a bookkeeping defect reported with these scenes.
+// compared with its start (measured drift 6.6e-5). EnergyBudget::error() agrees since e1d4e27
+// (before, it booked ~0.5 % per period of "boundary work" at the clamped end; the engine test
+// VibratingBarAt32Cells.ClampedEndDoesNoWork guards that).
 TEST(VerificationScenes, VibratingBarPeriodAndCentreOfMassVelocity) {
   const auto scene = load("vibrating-bar");
   auto sim = start(scene);
