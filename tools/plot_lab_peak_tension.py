@@ -24,11 +24,7 @@ import shatter_plot as sp
 
 
 def principal_max(c, sel):
-    s = np.zeros((sel.sum(), 3, 3))
-    for (i, j), k in zip([(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)],
-                         ["sxx", "syy", "szz", "sxy", "syz", "sxz"]):
-        s[:, i, j] = c[k][sel]
-        s[:, j, i] = s[:, i, j]
+    s = sp.stress_tensors(c, sel)
     return s, np.linalg.eigvalsh(s)[:, -1]
 
 
@@ -42,16 +38,8 @@ def main():
     files = sp.snapshots(a.run_dir)
     _, first, axis = sp.read_snapshot(files[0])
     body = first["body"].astype(int)
-    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
+    target, _, radius, _, impact = sp.impact_geometry(first, axis)
     pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
-    centre = pos0[body == target].mean(axis=0)
-    if axis >= 0:
-        centre[axis] = 0.0  # the half model's centre lies on the symmetry plane
-    radius = np.max(np.linalg.norm(pos0[body == target] - centre, axis=1))
-    proj = pos0[body != target].mean(axis=0)
-    if axis >= 0:
-        proj[axis] = centre[axis]
-    impact = centre + radius * (proj - centre) / np.linalg.norm(proj - centre)
 
     ids = first["id"][body == target].astype(np.int64)
     index = {i: k for k, i in enumerate(ids)}

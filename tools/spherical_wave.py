@@ -186,17 +186,8 @@ def read_axis_history(run_dir, radii, width, cone):
     files = sp.snapshots(run_dir)
     _, first, axis = sp.read_snapshot(files[0])
     body = first["body"].astype(int)
-    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
+    target, centre, radius, n_in, impact = sp.impact_geometry(first, axis)
     pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
-    centre = pos0[body == target].mean(axis=0)
-    if axis >= 0:
-        centre[axis] = 0.0
-    radius = np.max(np.linalg.norm(pos0[body == target] - centre, axis=1))
-    proj = pos0[body != target].mean(axis=0)
-    if axis >= 0:
-        proj[axis] = centre[axis]
-    n_in = (centre - proj) / np.linalg.norm(centre - proj)
-    impact = centre - radius * n_in
     tsel = body == target
     x0 = pos0[tsel] - impact
     d = np.linalg.norm(x0, axis=1)
@@ -212,11 +203,7 @@ def read_axis_history(run_dir, radii, width, cone):
         order = np.argsort(ids)
         for r0, g in zip(radii, groups):
             sel = order[np.searchsorted(ids[order], g)]
-            s = np.zeros((len(sel), 3, 3))
-            for (i, j), k in zip([(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)],
-                                 ["sxx", "syy", "szz", "sxy", "syz", "sxz"]):
-                s[:, i, j] = c[k][sel]
-                s[:, j, i] = s[:, i, j]
+            s = sp.stress_tensors(c, sel)
             x = np.stack([c["x"][sel], c["y"][sel], c["z"][sel]], 1) - impact
             nn = x / np.linalg.norm(x, axis=1)[:, None]
             rr = np.einsum("ni,nij,nj->n", nn, s, nn)
@@ -373,17 +360,8 @@ def lab_table(run_dir, cone, window, out):
     files = sp.snapshots(run_dir)
     _, first, axis = sp.read_snapshot(files[0])
     body = first["body"].astype(int)
-    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
+    target, centre, radius, n_in, impact = sp.impact_geometry(first, axis)
     pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
-    centre = pos0[body == target].mean(axis=0)
-    if axis >= 0:
-        centre[axis] = 0.0
-    radius = np.max(np.linalg.norm(pos0[body == target] - centre, axis=1))
-    proj = pos0[body != target].mean(axis=0)
-    if axis >= 0:
-        proj[axis] = centre[axis]
-    n_in = (centre - proj) / np.linalg.norm(centre - proj)
-    impact = centre - radius * n_in
     tsel = body == target
     x0 = pos0[tsel] - impact
     d = np.linalg.norm(x0, axis=1)
@@ -400,11 +378,7 @@ def lab_table(run_dir, cone, window, out):
         allid = c["id"].astype(np.int64)
         order = np.argsort(allid)
         sel = order[np.searchsorted(allid[order], ids)]
-        s = np.zeros((n, 3, 3))
-        for (i, j), k in zip([(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)],
-                             ["sxx", "syy", "szz", "sxy", "syz", "sxz"]):
-            s[:, i, j] = c[k][sel]
-            s[:, j, i] = s[:, i, j]
+        s = sp.stress_tensors(c, sel)
         x = np.stack([c["x"][sel], c["y"][sel], c["z"][sel]], 1) - impact
         nn = x / np.linalg.norm(x, axis=1)[:, None]
         rr = np.einsum("ni,nij,nj->n", nn, s, nn)
@@ -538,7 +512,7 @@ def lab_noise(run_dir, cell):
     dist = np.linalg.norm(pos0[tsel][order0] - impact, axis=1)
     peak_p = np.full(len(ids), -np.inf)
     peak_c = np.full(len(ids), -np.inf)
-    names = ["sxx", "syy", "szz", "sxy", "syz", "sxz"]
+    names = [k for _, k in sp.STRESS_COLUMNS]
     for path in files[1:]:
         t, c, _ = sp.read_snapshot(path)
         allid = c["id"].astype(np.int64)
@@ -554,11 +528,7 @@ def lab_noise(run_dir, cell):
         mean /= cnt[:, None]
 
         def smax(v):
-            s = np.zeros((len(v), 3, 3))
-            for (i, j), k in zip([(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)], range(6)):
-                s[:, i, j] = v[:, k]
-                s[:, j, i] = v[:, k]
-            return np.linalg.eigvalsh(s)[:, -1]
+            return np.linalg.eigvalsh(sp.stress_tensors(v))[:, -1]
         peak_p = np.maximum(peak_p, smax(comp))
         peak_c = np.maximum(peak_c, smax(mean)[inv])
     print("  d (mm) | median peak largest principal (MPa): point | cell mean | ratio")
