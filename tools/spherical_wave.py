@@ -464,14 +464,7 @@ def contact_force(run_dir, out):
     import shatter_plot as sp
     files = sp.snapshots(run_dir)
     _, first, axis = sp.read_snapshot(files[0])
-    body = first["body"].astype(int)
-    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
-    pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
-    centre = pos0[body == target].mean(axis=0)
-    proj = pos0[body != target].mean(axis=0)
-    if axis >= 0:
-        centre[axis] = proj[axis] = 0.0
-    n_in = (centre - proj) / np.linalg.norm(centre - proj)
+    target, _, _, n_in, _ = sp.impact_geometry(first, axis)
     ts, ps = [], []
     for path in files:
         t, c, _ = sp.read_snapshot(path)
@@ -497,14 +490,8 @@ def lab_noise(run_dir, cell):
     files = sp.snapshots(run_dir)
     _, first, axis = sp.read_snapshot(files[0])
     body = first["body"].astype(int)
-    target = int(np.argmax(np.bincount(body, weights=first["mass"])))
+    target, _, radius, _, impact = sp.impact_geometry(first, axis)
     pos0 = np.stack([first["x"], first["y"], first["z"]], 1)
-    centre = pos0[body == target].mean(axis=0)
-    proj = pos0[body != target].mean(axis=0)
-    if axis >= 0:
-        centre[axis] = proj[axis] = 0.0
-    radius = np.max(np.linalg.norm(pos0[body == target] - centre, axis=1))
-    impact = centre + radius * (proj - centre) / np.linalg.norm(proj - centre)
     tsel = body == target
     ids = first["id"][tsel].astype(np.int64)
     order0 = np.argsort(ids)
