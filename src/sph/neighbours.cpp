@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 namespace shatter::sph {
 namespace {
@@ -15,12 +16,21 @@ namespace {
 // Fixed grain (never derived from the thread count); the lists do not depend on it anyway.
 constexpr std::size_t kGrain = 512;
 
+// A cell key packs the three integer cell coordinates, 21 bits each, z major: cells that are
+// neighbours along x have consecutive keys, so a row of three cells is one key interval.
+constexpr int kBits = 21;
+constexpr std::uint64_t kAxisCells = std::uint64_t{1} << kBits;
+constexpr std::uint64_t key_of(std::uint64_t k0, std::uint64_t k1, std::uint64_t k2) {
+  return (k2 << (2 * kBits)) | (k1 << kBits) | k0;
+}
+
 }  // namespace
 
 std::size_t NeighbourSearch::bytes() const {
   return sizeof(std::uint32_t) *
              (cell_.capacity() + cell_start_.capacity() + sorted_.capacity() + list_.capacity()) +
-         sizeof(std::size_t) * offsets_.capacity();
+         sizeof(std::size_t) * offsets_.capacity() + sizeof(std::uint64_t) * cell_key_.capacity() +
+         sizeof(KeyIndex) * keyed_.capacity();
 }
 
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
@@ -31,10 +41,13 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
   n_ = n;
   cell_.resize(n);
   sorted_.resize(n);
+  keyed_.resize(n);
   offsets_.resize(n + 1);
   offsets_[0] = 0;
+  cell_key_.clear();
+  cell_start_.clear();
   if (n == 0) {
-    cell_start_.assign(1, 0);
+    cell_start_.push_back(0);
     return;
   }
 
@@ -54,58 +67,57 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
   }
 
   // Cell edge: the largest support, 2 hmax >= h_i + h_j, so the 27 cells around a point hold
-  // all its neighbours. Grown (by 2^(1/3) per try) while the dense cell array would be too big.
+  // all its neighbours. Only occupied cells exist (sorted keys), so debris flying far costs
+  // nothing; only a cloud wider than 2^21 cells on an axis gets larger cells.
   double cs = 2.0 * hmax;
-  std::size_t dims[3] = {1, 1, 1};
-  const double cap = static_cast<double>(kMaxCellsPerPoint * n + 64);
-  for (;;) {
-    double cells = 1.0;
-    for (int d = 0; d < 3; ++d) cells *= std::floor((hi[d] - lo[d]) / cs) + 1.0;
-    if (cells <= cap) break;
-    cs *= 1.2599210498948732;
+  for (int d = 0; d < 3; ++d) {
+    while ((hi[d] - lo[d]) / cs >= static_cast<double>(kAxisCells - 2)) cs *= 2.0;
   }
-  for (int d = 0; d < 3; ++d) dims[d] = static_cast<std::size_t>((hi[d] - lo[d]) / cs) + 1;
   cell_size_ = cs;
-  const std::size_t ncell = dims[0] * dims[1] * dims[2];
   const double inv = 1.0 / cs;
 
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t p = r.begin(); p < r.end(); ++p) {
           const double c[3] = {x[p], y[p], z[p]};
-          std::size_t k[3];
+          std::uint64_t k[3];
           for (int d = 0; d < 3; ++d) {
-            k[d] = std::min(static_cast<std::size_t>((c[d] - lo[d]) * inv), dims[d] - 1);
+            k[d] = std::min(static_cast<std::uint64_t>((c[d] - lo[d]) * inv), kAxisCells - 1);
           }
-          cell_[p] = static_cast<std::uint32_t>((k[2] * dims[1] + k[1]) * dims[0] + k[0]);
+          keyed_[p] = {key_of(k[0], k[1], k[2]), static_cast<std::uint32_t>(p)};
         }
       });
-
-  // Stable counting sort by cell (points of one cell stay in ascending index order).
-  cell_start_.assign(ncell + 1, 0);
-  for (std::size_t p = 0; p < n; ++p) ++cell_start_[cell_[p] + 1];
-  for (std::size_t c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
-  // Fill, advancing each cell's start to its end; then shift the starts back by one cell.
-  for (std::size_t p = 0; p < n; ++p) {
-    sorted_[cell_start_[cell_[p]]++] = static_cast<std::uint32_t>(p);
+  // (key, index) pairs are unique, so the sorted order is the same whatever the sort's
+  // schedule: points of one cell in ascending index order.
+  tbb::parallel_sort(keyed_.begin(), keyed_.end());
+  for (std::size_t s = 0; s < n; ++s) {
+    sorted_[s] = keyed_[s].index;
+    if (s == 0 || keyed_[s].key != keyed_[s - 1].key) {
+      cell_key_.push_back(keyed_[s].key);
+      cell_start_.push_back(static_cast<std::uint32_t>(s));
+    }
+    cell_[keyed_[s].index] = static_cast<std::uint32_t>(cell_key_.size() - 1);
   }
-  for (std::size_t c = ncell; c > 0; --c) cell_start_[c] = cell_start_[c - 1];
-  cell_start_[0] = 0;
+  cell_start_.push_back(static_cast<std::uint32_t>(n));
 
   // Visits the candidates of point i in the fixed order; calls f(j) for each neighbour.
   auto visit = [&](std::size_t i, auto&& f) {
-    const std::uint32_t ci = cell_[i];
-    const std::size_t k0 = ci % dims[0];
-    const std::size_t k1 = (ci / dims[0]) % dims[1];
-    const std::size_t k2 = ci / (dims[0] * dims[1]);
+    const std::uint64_t key = cell_key_[cell_[i]];
+    const std::uint64_t mask = kAxisCells - 1;
+    const std::uint64_t k0 = key & mask, k1 = (key >> kBits) & mask, k2 = key >> (2 * kBits);
     const double xi = x[i], yi = y[i], zi = z[i], hi_ = h[i];
-    for (std::size_t c2 = k2 > 0 ? k2 - 1 : 0; c2 <= std::min(k2 + 1, dims[2] - 1); ++c2) {
-      for (std::size_t c1 = k1 > 0 ? k1 - 1 : 0; c1 <= std::min(k1 + 1, dims[1] - 1); ++c1) {
-        const std::size_t row = (c2 * dims[1] + c1) * dims[0];
-        const std::size_t a = row + (k0 > 0 ? k0 - 1 : 0);
-        const std::size_t b = row + std::min(k0 + 1, dims[0] - 1);
-        // Cells a..b are contiguous in the sorted order: one run of points.
-        for (std::uint32_t s = cell_start_[a]; s < cell_start_[b + 1]; ++s) {
+    for (std::uint64_t c2 = k2 > 0 ? k2 - 1 : 0; c2 <= std::min(k2 + 1, mask); ++c2) {
+      for (std::uint64_t c1 = k1 > 0 ? k1 - 1 : 0; c1 <= std::min(k1 + 1, mask); ++c1) {
+        // The row's cells x - 1 .. x + 1 are one key interval, one run of sorted points.
+        const std::uint64_t first = key_of(k0 > 0 ? k0 - 1 : 0, c1, c2);
+        const std::uint64_t last = key_of(std::min(k0 + 1, mask), c1, c2);
+        const auto a = std::lower_bound(cell_key_.begin(), cell_key_.end(), first);
+        auto b = a;
+        while (b != cell_key_.end() && *b <= last) ++b;
+        if (a == b) continue;
+        const std::uint32_t s0 = cell_start_[static_cast<std::size_t>(a - cell_key_.begin())];
+        const std::uint32_t s1 = cell_start_[static_cast<std::size_t>(b - cell_key_.begin())];
+        for (std::uint32_t s = s0; s < s1; ++s) {
           const std::uint32_t j = sorted_[s];
           if (j == i) continue;
           const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];

@@ -1,12 +1,15 @@
 #pragma once
 // Neighbour search for SPH with variable smoothing lengths (issue 10 item 5): sorted cell lists.
-// Points are binned into cubic cells of edge >= 2 max(h) (the largest support h_i + h_j), sorted
-// by cell with a stable counting sort (as the MPM engine sorts by grid block), and each point
-// gathers its neighbours from the 27 cells around its own. j is a neighbour of i when j != i and
-// |x_i - x_j| < h_i + h_j = 2 h_ij (the support of W(r, h_ij)). Each list is in a fixed order
-// (cells in z, y, x order, then ascending index), independent of the thread count, so the
-// gather sums over it are bitwise reproducible. Buffers are reused: after the first build of a
-// given size no step allocates (unless the neighbour count grows past its previous maximum).
+// Points are binned into cubic cells of edge 2 max(h) (the largest support h_i + h_j) and sorted
+// by cell key (as the MPM engine sorts by grid block). Only occupied cells exist: a sorted array
+// of keys, looked up by binary search, one interval per row of three cells, so ejecta flying far
+// from the body cost nothing (a dense cell array over the bounding box would either grow with it
+// or need coarser cells). Each point gathers its neighbours from the 27 cells around its own. j is
+// a neighbour of i when j != i and |x_i - x_j| < h_i + h_j = 2 h_ij (the support of W(r, h_ij)).
+// Each list is in a fixed order (cells in z, y, x order, then ascending index), independent of the
+// thread count, so the gather sums over it are bitwise reproducible. Buffers are reused: after the
+// first build of a given size no step allocates (unless the neighbour count grows past its previous
+// maximum).
 
 #include <cstddef>
 #include <cstdint>
@@ -31,24 +34,31 @@ class NeighbourSearch {
   std::size_t offset(std::size_t i) const { return offsets_[i]; }
   // Total number of (ordered) pairs: sum over i of count(i).
   std::size_t pairs() const { return offsets_.empty() ? 0 : offsets_[n_]; }
-  // Cell of each point in the last build (for re-ordering particles in memory by cell).
+  // Cell of each point in the last build, numbered in key order (for re-ordering particles in
+  // memory by cell).
   std::span<const std::uint32_t> cells() const { return {cell_.data(), n_}; }
-  // Cell edge used by the last build (>= 2 max h; larger when a sparse cloud would need more
-  // than kMaxCellsPerPoint cells per point).
+  // Cell edge used by the last build: 2 max h (doubled only for a cloud wider than 2^21 cells).
   double cell_size() const { return cell_size_; }
+  // Number of occupied cells in the last build.
+  std::size_t cell_count() const { return cell_key_.size(); }
   // Bytes held by the search structures.
   std::size_t bytes() const;
 
-  // Cap on the dense cell array: cells <= kMaxCellsPerPoint * n + 64. Debris flying far apart
-  // then gets coarser cells (more candidates per cell) instead of unbounded memory.
-  static constexpr std::size_t kMaxCellsPerPoint = 4;
-
  private:
+  struct KeyIndex {
+    std::uint64_t key;
+    std::uint32_t index;
+    bool operator<(const KeyIndex& o) const {
+      return key < o.key || (key == o.key && index < o.index);
+    }
+  };
   std::size_t n_ = 0;
   double cell_size_ = 0.0;
-  std::vector<std::uint32_t> cell_;        // cell of each point
-  std::vector<std::uint32_t> cell_start_;  // first sorted slot of each cell (+1 sentinel)
-  std::vector<std::uint32_t> sorted_;      // point indices sorted by cell, stable
+  std::vector<KeyIndex> keyed_;            // (cell key, point) sorted
+  std::vector<std::uint64_t> cell_key_;    // occupied cells' keys, ascending
+  std::vector<std::uint32_t> cell_;        // occupied-cell index of each point
+  std::vector<std::uint32_t> cell_start_;  // first sorted slot of each occupied cell (+1 sentinel)
+  std::vector<std::uint32_t> sorted_;      // point indices sorted by cell, then index
   std::vector<std::size_t> offsets_;       // CSR offsets of the lists (n + 1)
   std::vector<std::uint32_t> list_;        // neighbour indices
 };

@@ -64,8 +64,8 @@ TEST(NeighbourSearch, RandomPointsWithVaryingHMatchBruteForce) {
 }
 
 TEST(NeighbourSearch, ClusteredPointsFarApartMatchBruteForce) {
-  // Two dense Gaussian clusters 1000 h apart plus isolated far flyers: the dense cell array
-  // would need ~1e9 cells at 2 max h, so the search coarsens its cells (kMaxCellsPerPoint).
+  // Two dense Gaussian clusters 1000 h apart plus isolated far flyers: a dense cell array over
+  // the bounding box would need ~1e9 cells at 2 max h; the sparse cells hold only occupied ones.
   std::mt19937_64 rng(11);
   std::normal_distribution<double> g(0.0, 0.05);
   std::uniform_real_distribution<double> hu(0.005, 0.02);
@@ -79,7 +79,8 @@ TEST(NeighbourSearch, ClusteredPointsFarApartMatchBruteForce) {
   NeighbourSearch s;
   s.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size());
   expect_matches_brute_force(c, s);
-  EXPECT_GT(s.cell_size(), 2.0 * 0.02);  // coarsened
+  EXPECT_EQ(s.cell_size(), 2.0 * *std::max_element(c.h.begin(), c.h.end()));  // not coarsened
+  EXPECT_LT(s.cell_count(), c.size());
 }
 
 TEST(NeighbourSearch, ListsAreIdenticalForOneAndTwoThreadsAndRebuildsReuseMemory) {
