@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -30,7 +31,11 @@ std::size_t NeighbourSearch::bytes() const {
   return sizeof(std::uint32_t) *
              (cell_.capacity() + cell_start_.capacity() + sorted_.capacity() + list_.capacity()) +
          sizeof(std::size_t) * offsets_.capacity() + sizeof(std::uint64_t) * cell_key_.capacity() +
-         sizeof(KeyIndex) * keyed_.capacity();
+         sizeof(KeyIndex) * keyed_.capacity() +
+         std::accumulate(chunk_list_.begin(), chunk_list_.end(), std::size_t{0},
+                         [](std::size_t a, const std::vector<std::uint32_t>& v) {
+                           return a + sizeof(std::uint32_t) * v.capacity();
+                         });
 }
 
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
@@ -128,25 +133,38 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
     }
   };
 
-  // Pass 1: counts (into offsets_[i + 1]); pass 2: the lists. Points are visited in sorted
-  // order so that neighbouring points run on the same thread and share cache lines.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
+  // One pass over the candidates: each chunk of kGrain points (in sorted order, so neighbouring
+  // points share cache lines) gathers its points' lists into its own buffer, kept between builds;
+  // the counts give the offsets, and the buffers are copied into place. The chunks are fixed by
+  // n alone, and a list's content does not depend on its chunk, so any thread count gives the
+  // same lists.
+  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  if (chunk_list_.size() < chunks) chunk_list_.resize(chunks);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t s = r.begin(); s < r.end(); ++s) {
-                        const std::size_t i = sorted_[s];
-                        std::size_t count = 0;
-                        visit(i, [&](std::uint32_t) { ++count; });
-                        offsets_[i + 1] = count;
+                      for (std::size_t c = r.begin(); c < r.end(); ++c) {
+                        std::vector<std::uint32_t>& buf = chunk_list_[c];
+                        buf.clear();
+                        for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
+                          const std::size_t i = sorted_[s];
+                          const std::size_t before = buf.size();
+                          visit(i, [&](std::uint32_t j) { buf.push_back(j); });
+                          offsets_[i + 1] = buf.size() - before;
+                        }
                       }
                     });
   for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
   if (list_.size() < offsets_[n]) list_.resize(offsets_[n]);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t s = r.begin(); s < r.end(); ++s) {
-                        const std::size_t i = sorted_[s];
-                        std::uint32_t* out = list_.data() + offsets_[i];
-                        visit(i, [&](std::uint32_t j) { *out++ = j; });
+                      for (std::size_t c = r.begin(); c < r.end(); ++c) {
+                        const std::uint32_t* from = chunk_list_[c].data();
+                        for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
+                          const std::size_t i = sorted_[s];
+                          const std::size_t k = offsets_[i + 1] - offsets_[i];
+                          std::copy(from, from + k, list_.data() + offsets_[i]);
+                          from += k;
+                        }
                       }
                     });
 }

@@ -7,9 +7,10 @@
 // or need coarser cells). Each point gathers its neighbours from the 27 cells around its own. j is
 // a neighbour of i when j != i and |x_i - x_j| < h_i + h_j = 2 h_ij (the support of W(r, h_ij)).
 // Each list is in a fixed order (cells in z, y, x order, then ascending index), independent of the
-// thread count, so the gather sums over it are bitwise reproducible. Buffers are reused: after the
-// first build of a given size no step allocates (unless the neighbour count grows past its previous
-// maximum).
+// thread count, so the gather sums over it are bitwise reproducible. Buffers are reused: a build
+// allocates only while a buffer grows past its largest size so far (the lists are gathered in
+// one pass per chunk of points into per-chunk buffers, then copied into place), so a run stops
+// allocating once its neighbour counts stop growing.
 
 #include <cstddef>
 #include <cstdint>
@@ -61,6 +62,7 @@ class NeighbourSearch {
   std::vector<std::uint32_t> sorted_;      // point indices sorted by cell, then index
   std::vector<std::size_t> offsets_;       // CSR offsets of the lists (n + 1)
   std::vector<std::uint32_t> list_;        // neighbour indices
+  std::vector<std::vector<std::uint32_t>> chunk_list_;  // per chunk of points, reused
 };
 
 }  // namespace shatter::sph
