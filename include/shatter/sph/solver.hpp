@@ -2,16 +2,18 @@
 // SphSolver: Benz & Asphaug's (1995, Sec. 4.1) SPH for solids on the same particle store and
 // material library as MPM (DESIGN.md "The SPH step"). One step:
 //
-//   1. kick      v^{n+1/2} = v^{n-1/2} + a^n (dt^{n-1/2} + dt^{n+1/2}) / 2, and the viscous
-//                heating over the same interval (leapfrog, kick-drift-kick in its staggered form;
-//                the first step is a half kick)
-//   2. rates     gather pass at x^n with v^{n+1/2}: velocity gradient (Eq. 18), its trace the
-//                continuity equation (Eq. 16): deps = eps_dot dt, dspin = omega dt, rho^{n+1}
+//   1. kick      v^{n+1/2} = v^{n-1/2} + a^n (dt^{n-1/2} + dt^{n+1/2}) / 2 (leapfrog,
+//                kick-drift-kick in its staggered form; the first step is a half kick)
+//   2. rates     gather pass with v^{n+1/2} at the midpoint positions x^n + v^{n+1/2} dt / 2 and
+//                h^{n+1/2}: velocity gradient (Eq. 18), its trace the continuity equation
+//                (Eq. 16): deps = eps_dot dt, dspin = omega dt, rho^{n+1}; and the kick's viscous
+//                heat at the kick's mean velocity, added to the energy
 //   3. material  MaterialModel::update per group: the same composed EOS + strength + damage
 //                kernel as MPM (Jaumann rotation, energy from deps : sigma), zero bulk viscosity
 //   4. drift     x^{n+1} = x^n + v^{n+1/2} dt
 //   5. search    h^{n+1} from rho^{n+1}; neighbour lists at x^{n+1} (sorted cell lists)
-//   6. forces    gather pass: a^{n+1} from Eq. 17 (full stress) + Monaghan viscosity, its heating
+//   6. forces    gather pass: a^{n+1} from Eq. 17 (full stress) + Monaghan viscosity (and the
+//                per-pair viscous weights the next step's heat uses)
 //   7. energy    and the next dt (CFL with the viscous signal speed, and the force criterion)
 //
 // Smoothing length: h_i = h_factor (m_i / rho_i)^{1/3}. With the continuity density this is the
