@@ -55,9 +55,9 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
   spdlog::info("resuming {} from {} at t = {} s, step {} ({} points)", s.name, file.string(),
                c.state.clock.time, c.state.clock.step, c.particles.size());
 
-  std::optional<Simulation> sim;
+  std::unique_ptr<Solver> sim;
   try {
-    sim.emplace(s.solver, ParticleStore(c.particles), materials, options.threads);
+    sim = scene::make_solver(s, ParticleStore(c.particles), materials, options.threads);
   } catch (const std::invalid_argument& e) {
     spdlog::error("{}: {}", file.string(), e.what());
     return kBadInput;

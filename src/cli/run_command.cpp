@@ -83,13 +83,14 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
     spdlog::info("  body {}: {} ({} / {}), {} points, spacing {} m", b.name, b.material.name,
                  b.material.eos, b.material.strength, b.fill.points.size(), b.spacing);
   }
-  std::optional<Simulation> sim;
+  std::unique_ptr<Solver> sim;
   try {
-    sim.emplace(s.solver, std::move(built.particles), built.materials, options.threads);
+    sim = scene::make_solver(s, std::move(built.particles), built.materials, options.threads);
   } catch (const std::invalid_argument& e) {
     spdlog::error("{}: {}", scene_file.string(), e.what());
     return kBadInput;
   }
+  spdlog::info("method {}", sim->method());
 
   std::filesystem::create_directories(out);
   if (options.overwrite) clear_run(out);

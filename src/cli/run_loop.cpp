@@ -27,7 +27,7 @@ constexpr double kNever = std::numeric_limits<double>::infinity();
 
 class Runner {
  public:
-  Runner(Simulation& sim, const RunSpec& spec)
+  Runner(Solver& sim, const RunSpec& spec)
       : sim_(sim),
         spec_(spec),
         scene_(*spec.scene),
@@ -222,7 +222,7 @@ class Runner {
     return std::chrono::duration<double>(Clock::now() - start_wall_).count();
   }
 
-  Simulation& sim_;
+  Solver& sim_;
   const RunSpec& spec_;
   const scene::Scene& scene_;
   io::XdmfSeries series_;
@@ -248,7 +248,7 @@ std::filesystem::path checkpoint_path(const std::filesystem::path& out) {
   return out / "checkpoint.h5";
 }
 
-int run_loop(Simulation& sim, const RunSpec& spec) {
+int run_loop(Solver& sim, const RunSpec& spec) {
   return Runner(sim, spec).run();
 }
 

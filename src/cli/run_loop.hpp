@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/core/solver.hpp"
 #include "shatter/io/checkpoint.hpp"
 #include "shatter/scene/scene.hpp"
 
@@ -21,7 +21,7 @@ struct RunSpec {
 };
 
 // Runs to the scene's end time; returns the exit status.
-int run_loop(Simulation& sim, const RunSpec& spec);
+int run_loop(Solver& sim, const RunSpec& spec);
 
 // Paths inside a run directory.
 std::filesystem::path snapshot_dir(const std::filesystem::path& out);

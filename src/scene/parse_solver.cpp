@@ -8,6 +8,7 @@
 namespace shatter::scene {
 namespace {
 
+const std::vector<std::string> kMethods = {"mpm", "sph"};
 const std::vector<std::string> kShapes = {"linear", "ugimp", "bspline2"};
 const std::vector<std::string> kTransfers = {"flip", "apic"};
 const std::vector<std::string> kPlanes = {"none", "x", "y", "z"};
@@ -28,8 +29,8 @@ void read_solver(Reader& root, Scene& scene) {
   toml::table* t = root.subtable("solver");
   if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
   Reader r(*t, "solver");
-  r.allow({"shape", "transfer", "cell_size", "cfl", "end_time", "dt_max", "dt_min", "gravity",
-           "symmetry_plane", "reorder_interval", "viscosity"});
+  r.allow({"method", "shape", "transfer", "cell_size", "cfl", "end_time", "dt_max", "dt_min",
+           "gravity", "symmetry_plane", "reorder_interval", "viscosity", "sph"});
   r.reject_unknown();
 
   SolverConfig& c = scene.solver;
@@ -55,6 +56,23 @@ void read_solver(Reader& root, Scene& scene) {
   const auto reorder = r.integer("reorder_interval", 25);
   if (reorder < 0) r.fail("reorder_interval", "must be >= 0");
   c.reorder_interval = static_cast<unsigned>(reorder);
+
+  // The method (issue 10): MPM (default; not written back, so MPM scenes resolve as before) or
+  // Benz & Asphaug's SPH (include/shatter/sph/solver.hpp).
+  if (r.has("method")) scene.method = r.choice("method", "mpm", kMethods);
+  toml::table* sph = r.subtable("sph");
+  if (sph != nullptr || scene.method == "sph") {
+    if (sph == nullptr) {
+      r.table().insert("sph", toml::table{});
+      sph = r.subtable("sph");
+    }
+    Reader q(*sph, "solver.sph", r.where("sph"));
+    q.allow({"h_factor", "alpha", "beta"});
+    q.reject_unknown();
+    scene.sph.h_factor = q.positive("h_factor", q.number("h_factor", scene.sph.h_factor));
+    scene.sph.alpha = q.non_negative("alpha", q.number("alpha", scene.sph.alpha));
+    scene.sph.beta = q.non_negative("beta", q.number("beta", scene.sph.beta));
+  }
 
   toml::table* v = r.subtable("viscosity");
   if (v == nullptr) {

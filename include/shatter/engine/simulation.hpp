@@ -9,40 +9,14 @@
 #include <vector>
 
 #include "shatter/core/particles.hpp"
+#include "shatter/core/solver.hpp"
 #include "shatter/engine/config.hpp"
 #include "shatter/engine/energy.hpp"
 #include "shatter/material/material_model.hpp"
 
 namespace shatter {
 
-// Thrown when the state stops being finite or the time step collapses. The message names the
-// particle, the field and the step.
-class NumericalError : public std::runtime_error {
- public:
-  NumericalError(const std::string& what, std::size_t particle, std::uint64_t step)
-      : std::runtime_error(what), particle_(particle), step_(step) {}
-  std::size_t particle() const { return particle_; }
-  std::uint64_t step() const { return step_; }
-
- private:
-  std::size_t particle_;
-  std::uint64_t step_;
-};
-
-// The integrator's clock, all that a checkpoint needs besides particles and energy accounts.
-struct Clock {
-  double time = 0.0;
-  double dt = 0.0;       // dt^{n+1/2}: the step about to be taken (Eq. 34)
-  double dt_prev = 0.0;  // dt^{n-1/2}; 0 before the first step (leapfrog half kick)
-  std::uint64_t step = 0;
-};
-
-struct StageTiming {
-  std::string name;
-  double seconds = 0.0;  // accumulated wall time
-};
-
-class Simulation {
+class Simulation final : public Solver {
  public:
   // `materials[g]` is the model of every group whose Group::material == g. The store must hold
   // x, v, mass, volume0, rho, energy and, for uGIMP, size0; the engine registers what else its
@@ -50,38 +24,37 @@ class Simulation {
   Simulation(SolverConfig config, ParticleStore particles, std::vector<MaterialPtr> materials,
              int threads = 0);
   ~Simulation();
-  Simulation(const Simulation&) = delete;
-  Simulation& operator=(const Simulation&) = delete;
+
+  std::string_view method() const override { return "mpm"; }
 
   // One MUSL step of size clock().dt. When the step leaves a state whose stable step (Eq. 34) is
   // shorter than the step taken by more than config().retake_ratio (a sudden stiffening, e.g.
   // first contact at hypervelocity), the state before the step is restored and the step taken
   // again with the shorter dt, up to kMaxRetakes times; the caller sees one step of that size.
-  void step();
+  void step() override;
   static constexpr int kMaxRetakes = 4;
   // Steps taken again so far (each retake counts once).
-  std::uint64_t retakes() const { return retakes_; }
+  std::uint64_t retakes() const override { return retakes_; }
   // Steps until time() reaches t; the last step is shortened to land on t exactly.
-  void advance_to(double t);
+  void advance_to(double t) override;
 
-  const Clock& clock() const { return clock_; }
-  double time() const { return clock_.time; }
-  const EnergyBudget& energy() const { return energy_; }
-  const SolverConfig& config() const { return config_; }
-  ParticleStore& particles() { return particles_; }
-  const ParticleStore& particles() const { return particles_; }
+  const Clock& clock() const override { return clock_; }
+  const EnergyBudget& energy() const override { return energy_; }
+  const SolverConfig& config() const override { return config_; }
+  ParticleStore& particles() override { return particles_; }
+  const ParticleStore& particles() const override { return particles_; }
   const std::vector<MaterialPtr>& materials() const { return materials_; }
-  int threads() const { return threads_; }
+  int threads() const override { return threads_; }
 
   // Number of allocated grid blocks (memory grows with these, not with the bounding box).
   std::size_t active_blocks() const;
   std::size_t grid_bytes() const;
   // Total nodal mass of the last step's grid (Eq. 32); equals the particle mass to round-off.
   double grid_mass() const;
-  const std::vector<StageTiming>& stage_timings() const;
+  const std::vector<StageTiming>& stage_timings() const override;
 
   // Restores a checkpointed clock and energy accounts (particles come with the store).
-  void restore(const Clock& clock, const EnergyBudget& energy);
+  void restore(const Clock& clock, const EnergyBudget& energy) override;
 
  private:
   struct Impl;

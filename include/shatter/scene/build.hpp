@@ -2,9 +2,11 @@
 // Turns a parsed scene into what the engine runs: the particle store (one material group per
 // body) and the material models.
 
+#include <memory>
 #include <vector>
 
 #include "shatter/core/particles.hpp"
+#include "shatter/core/solver.hpp"
 #include "shatter/material/material_model.hpp"
 #include "shatter/scene/scene.hpp"
 
@@ -26,5 +28,11 @@ std::vector<bool> damaged_groups(const Scene& scene);
 // volume0 = (measured body volume) / (number of points), mass = rho0 volume0, size0 = spacing,
 // id (0..N-1 over all bodies), body index; flaws for Grady–Kipp bodies.
 BuiltScene build(const Scene& scene);
+
+// The solver the scene's solver.method names: MPM's Simulation ("mpm") or the SPH solver
+// ("sph"), on the given particles and materials. Throws std::invalid_argument for settings the
+// method cannot take (e.g. a symmetry plane with SPH).
+std::unique_ptr<Solver> make_solver(const Scene& scene, ParticleStore particles,
+                                    std::vector<MaterialPtr> materials, int threads);
 
 }  // namespace shatter::scene

@@ -6,8 +6,9 @@
 //   name, description          text
 //   extends = "base.toml"      start from another scene and override it
 //   catalogue = "file.toml"    material catalogue (default: the one shipped, data/materials.toml)
-//   [solver]                   shape, cell_size, cfl, end_time, dt_max, dt_min, gravity,
-//                              symmetry_plane, reorder_interval, [solver.viscosity]
+//   [solver]                   method, shape, cell_size, cfl, end_time, dt_max, dt_min, gravity,
+//                              symmetry_plane, reorder_interval, [solver.viscosity],
+//                              [solver.sph] (h_factor, alpha, beta)
 //   [domain]                   lo, hi, boundary, x_lo, x_hi, y_lo, y_hi, z_lo, z_hi
 //   [body.NAME]                shape + its keys, material, velocity, spacing, points_per_cell,
 //                              energy, mass, [body.NAME.damage]
@@ -29,6 +30,7 @@
 #include "shatter/scene/lattice.hpp"
 #include "shatter/scene/scene_error.hpp"
 #include "shatter/scene/shapes.hpp"
+#include "shatter/sph/config.hpp"
 
 namespace shatter::scene {
 
@@ -76,6 +78,8 @@ struct Scene {
   std::string description;
   std::string source;  // file the scene came from (or "<text>")
   SolverConfig solver;
+  std::string method = "mpm";  // solver.method: "mpm" (default) or "sph"
+  sph::SphConfig sph;          // [solver.sph], read when method = "sph"
   double end_time = 0.0;   // s
   int symmetry_axis = -1;  // 0, 1, 2 = symmetry plane x = 0, y = 0, z = 0 (positive half kept)
   std::vector<BodySpec> bodies;

@@ -1,0 +1,68 @@
+#pragma once
+// Neighbour search for SPH with variable smoothing lengths (issue 10 item 5): sorted cell lists.
+// Points are binned into cubic cells of edge 2 max(h) (the largest support h_i + h_j) and sorted
+// by cell key (as the MPM engine sorts by grid block). Only occupied cells exist: a sorted array
+// of keys, looked up by binary search, one interval per row of three cells, so ejecta flying far
+// from the body cost nothing (a dense cell array over the bounding box would either grow with it
+// or need coarser cells). Each point gathers its neighbours from the 27 cells around its own. j is
+// a neighbour of i when j != i and |x_i - x_j| < h_i + h_j = 2 h_ij (the support of W(r, h_ij)).
+// Each list is in a fixed order (cells in z, y, x order, then ascending index), independent of the
+// thread count, so the gather sums over it are bitwise reproducible. Buffers are reused: a build
+// allocates only while a buffer grows past its largest size so far (the lists are gathered in
+// one pass per chunk of points into per-chunk buffers, then copied into place), so a run stops
+// allocating once its neighbour counts stop growing.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace shatter::sph {
+
+class NeighbourSearch {
+ public:
+  // Builds the lists for n points. Positions and h must be finite; h > 0.
+  void build(const double* x, const double* y, const double* z, const double* h, std::size_t n);
+
+  std::size_t size() const { return n_; }
+  // Neighbours of point i (i itself excluded).
+  std::span<const std::uint32_t> of(std::size_t i) const {
+    return {list_.data() + offsets_[i], offsets_[i + 1] - offsets_[i]};
+  }
+  const std::uint32_t* begin_of(std::size_t i) const { return list_.data() + offsets_[i]; }
+  std::size_t count(std::size_t i) const { return offsets_[i + 1] - offsets_[i]; }
+  // Index of point i's first entry in the concatenated lists (for per-pair data).
+  std::size_t offset(std::size_t i) const { return offsets_[i]; }
+  // Total number of (ordered) pairs: sum over i of count(i).
+  std::size_t pairs() const { return offsets_.empty() ? 0 : offsets_[n_]; }
+  // Cell of each point in the last build, numbered in key order (for re-ordering particles in
+  // memory by cell).
+  std::span<const std::uint32_t> cells() const { return {cell_.data(), n_}; }
+  // Cell edge used by the last build: 2 max h (doubled only for a cloud wider than 2^21 cells).
+  double cell_size() const { return cell_size_; }
+  // Number of occupied cells in the last build.
+  std::size_t cell_count() const { return cell_key_.size(); }
+  // Bytes held by the search structures.
+  std::size_t bytes() const;
+
+ private:
+  struct KeyIndex {
+    std::uint64_t key;
+    std::uint32_t index;
+    bool operator<(const KeyIndex& o) const {
+      return key < o.key || (key == o.key && index < o.index);
+    }
+  };
+  std::size_t n_ = 0;
+  double cell_size_ = 0.0;
+  std::vector<KeyIndex> keyed_;            // (cell key, point) sorted
+  std::vector<std::uint64_t> cell_key_;    // occupied cells' keys, ascending
+  std::vector<std::uint32_t> cell_;        // occupied-cell index of each point
+  std::vector<std::uint32_t> cell_start_;  // first sorted slot of each occupied cell (+1 sentinel)
+  std::vector<std::uint32_t> sorted_;      // point indices sorted by cell, then index
+  std::vector<std::size_t> offsets_;       // CSR offsets of the lists (n + 1)
+  std::vector<std::uint32_t> list_;        // neighbour indices
+  std::vector<std::vector<std::uint32_t>> chunk_list_;  // per chunk of points, reused
+};
+
+}  // namespace shatter::sph
