@@ -36,6 +36,10 @@ class Boundaries {
   // nodal kinetic energy the constraints removed (a diagnostic: no particle velocity changes).
   double velocities(SparseGrid& grid, double empty_mass) const;
 
+  bool constrained() const { return count_ > 0; }
+  // Zeroes the constrained components of (x, y, z) at global node `node` (steps 2-3).
+  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const;
+
  private:
   struct Plane {
     int axis;
@@ -43,9 +47,6 @@ class Boundaries {
     std::int64_t index;  // node index of the plane along axis
     BoundaryKind kind;
   };
-  // Zeroes the constrained components of (x, y, z) at a node; returns which were zeroed.
-  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const;
-
   std::array<Plane, 6> planes_{};
   int count_ = 0;
   Domain domain_;
