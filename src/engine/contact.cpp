@@ -7,6 +7,12 @@
 #include <tbb/parallel_reduce.h>
 
 namespace shatter::engine {
+namespace {
+
+// Pairs where one body's nodal mass is below this fraction of the other's are not corrected.
+constexpr double kMinMassRatio = 0.01;
+
+}  // namespace
 
 Contact::Contact(const ContactConfig& config, std::int64_t bodies)
     : n_(bodies), mu_(static_cast<std::size_t>(bodies * bodies), config.friction) {
@@ -56,6 +62,11 @@ double Contact::resolve(SparseGrid& grid, const Boundaries& bc, double dt,
                 const std::size_t ib = node(b);
                 const double mb = N.mass[ib];
                 if (mb <= empty_mass) continue;
+                // A field this light against the other is a stencil fringe: its trial velocity
+                // is F dt / m of a few particles' tails and rings; as contact acts only on
+                // approach, that noise was rectified into a push that gave two head-on cubes 1.8x
+                // their energy (linear shapes) until such pairs were left out.
+                if (std::min(ma, mb) < kMinMassRatio * std::max(ma, mb)) continue;
                 // Normal from a into b. g = sum_p m_p grad N_I(x_p) points out of a body at its
                 // surface (N_I falls towards the particles beyond the node). The normal is that
                 // of the body with the larger mass gradient, the other taking its opposite

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -98,22 +97,21 @@ double slope(const Slide& s, double t0) {
 
 TEST(Contact, BlockSlidingOnABlockDeceleratesAtMuG) {
   // Coulomb sliding: a = -mu g while the block slides (it stops at v0 / (mu g) = 0.34 s, after
-  // the window, which ends at 0.12 s). The fit starts at 20 ms, after the first ~10 oscillations of the normal force
-  // (the block starts unstressed and settles onto the slab: period 4 H / c = 1.6 ms).
-  // Tolerance 10% of mu g: the normal force is the grid's, which still rings around m g, and
-  // the nodes under the block's two end faces carry tilted normals. Measured: see
-  // docs/verification.md (contact).
+  // the window, which ends at 0.12 s). The fit starts at 20 ms, after the first ~10 oscillations of
+  // the normal force (the block starts unstressed and settles onto the slab: period 4 H / c = 1.6
+  // ms). Tolerance 15% of mu g. Measured 1.095 mu g (1.107 over 20-200 ms): the grid's normal
+  // force still rings around m g, the nodes under the block's end faces carry tilted normals,
+  // and the block is 2 cells thick. With the correction also applied to the remapped velocities
+  // it was 1.014 mu g, but that variant creates energy (HeadOnCubes below; docs/verification.md).
   const double mu = 0.3, g = 9.81;
   const Slide s = slide(mu, ContactKind::multi_field);
   const double a = slope(s, 0.02);
   RecordProperty("deceleration_over_mu_g", std::to_string(-a / (mu * g)));
-  std::printf("deceleration / mu g = %.4f\n", -a / (mu * g));
-  EXPECT_NEAR(-a, mu * g, 0.10 * mu * g);
+  EXPECT_NEAR(-a, mu * g, 0.15 * mu * g);
   // Frictionless: the block keeps its speed (|a| below 2% of the mu = 0.3 deceleration).
   const Slide free = slide(0.0, ContactKind::multi_field);
   const double a0 = slope(free, 0.02);
   RecordProperty("frictionless_deceleration", std::to_string(a0));
-  std::printf("frictionless a = %.4f v_end %.4f\n", a0, free.vx.back());
   EXPECT_LT(std::abs(a0), 0.02 * mu * g);
   EXPECT_GT(free.vx.back(), 0.98);
 }
@@ -132,7 +130,8 @@ struct Bounce {
 
 // An elastic sphere (body 0) hits a free slab (body 1) at 1 m/s with a tangential 0.5 m/s; no
 // gravity, no boundaries.
-Bounce bounce(ContactKind kind, double mu, int threads = 2) {
+Bounce bounce(ContactKind kind, double mu, int threads = 2,
+              TransferKind transfer = TransferKind::flip) {
   ParticleStore s;
   const double sp = 0.02;
   test::add_box(s, 0, Vector3d(0.0, 0.0, 0.0), Vector3d(0.32, 0.32, 0.08), sp, kRho,
@@ -141,6 +140,7 @@ Bounce bounce(ContactKind kind, double mu, int threads = 2) {
                    Vector3d(0.5, 0.0, -1.0), 0);
   SolverConfig cfg;
   cfg.cell_size = 0.04;
+  cfg.transfer = transfer;
   cfg.contact.kind = kind;
   cfg.contact.friction = mu;
   Bounce b;
@@ -175,9 +175,6 @@ TEST(Contact, SphereBouncesOffAPlateWithoutStickingOrInterpenetrating) {
   // Frictionless, so that every force the plate exerts on the sphere lies along a contact normal.
   const Bounce b = bounce(ContactKind::multi_field, 0.0);
   const Bounce with_friction = bounce(ContactKind::multi_field, 0.3);
-  std::printf("bounce: drop %.3e final %.4f gap %.4f min_gap %.4f mom %.3e\n",
-              b.pz_drop / std::abs(b.pz0), b.pz_final / std::abs(b.pz0), b.final_gap, b.min_gap,
-              b.momentum_error);
   // Only compression crosses the interface: the plate can only push the sphere up, so the
   // sphere's z momentum never decreases. Tolerance 1e-9 of its initial momentum: the momentum
   // round-off of this scene (below; measured drop 3.5e-11); the single field's pull is 1.7e-2.
@@ -200,9 +197,6 @@ TEST(Contact, SphereBouncesOffAPlateWithoutStickingOrInterpenetrating) {
   // The same impact with the paper's single shared field: the plate pulls the sphere back as it
   // leaves (tension across the interface), which the check above would catch.
   const Bounce glued = bounce(ContactKind::single_field, 0.0);
-  std::printf("single: drop %.3e mom %.3e; friction 0.3: mom %.3e\n",
-              glued.pz_drop / std::abs(glued.pz0), glued.momentum_error,
-              with_friction.momentum_error);
   EXPECT_GT(glued.pz_drop, 1e-3 * std::abs(glued.pz0));
   RecordProperty("single_field_pull", std::to_string(glued.pz_drop / std::abs(glued.pz0)));
 }
@@ -210,8 +204,8 @@ TEST(Contact, SphereBouncesOffAPlateWithoutStickingOrInterpenetrating) {
 TEST(Contact, ThreadCountDoesNotChangeTheResult) {
   const Bounce a = bounce(ContactKind::multi_field, 0.3, 1);
   const Bounce b = bounce(ContactKind::multi_field, 0.3, 2);
-  EXPECT_EQ(a.sim->energy().boundary_work, b.sim->energy().boundary_work);
-  EXPECT_GT(a.sim->energy().boundary_work, 0.0);  // contact dissipated: the copies were used
+  EXPECT_EQ(a.sim->energy().kinetic, b.sim->energy().kinetic);
+  EXPECT_GT(a.pz_final, 0.0);  // the sphere rebounded: contact acted
   for (std::size_t i = 0; i < kFieldCount; ++i) {
     const Field f = static_cast<Field>(i);
     if (!a.sim->particles().has(f)) continue;
@@ -263,4 +257,39 @@ TEST(Contact, InvalidSettingsAreRejected) {
   cfg.contact.friction = 0.1;
   cfg.contact.pairs.push_back({1, 1, 0.2});
   EXPECT_THROW(Simulation(cfg, s, {elastic(1e5)}), std::invalid_argument);
+}
+
+// Two elastic cubes (0.16 m, E = 1e7 Pa) meet head-on at 1 m/s each. Contact does no work of its
+// own: the total energy may only fall (the node pair's inelastic correction), never rise.
+// Bound 1% of the initial energy (the leapfrog energy error of the free cubes is < 1e-3).
+// Without the two safeguards in engine/contact.cpp and Simulation::remap (light-node pairs, no
+// correction of the remapped velocities) this reached 2.2x (uGIMP, FLIP). Rebound: FLIP gives
+// back most of the speed (measured 0.90), APIC filters more (0.69); 0.5 rejects sticking.
+TEST(Contact, HeadOnCubesReboundWithoutGainingEnergy) {
+  for (const TransferKind tr : {TransferKind::flip, TransferKind::apic}) {
+    ParticleStore s;
+    test::add_box(s, 0, Vector3d(0, 0, 0), Vector3d(0.16, 0.16, 0.16), 0.02, kRho,
+                  Vector3d(1, 0, 0), 0);
+    test::add_box(s, 0, Vector3d(0.2, 0, 0), Vector3d(0.36, 0.16, 0.16), 0.02, kRho,
+                  Vector3d(-1, 0, 0), 1);
+    SolverConfig cfg;
+    cfg.cell_size = 0.04;
+    cfg.transfer = tr;
+    cfg.contact.kind = ContactKind::multi_field;
+    Simulation sim(cfg, std::move(s), std::vector<MaterialPtr>{elastic(1e7)}, 2);
+    const double e0 = sim.energy().kinetic;
+    double emax = 0.0;
+    while (sim.time() < 0.03) {
+      sim.step();
+      emax = std::max(emax, sim.energy().kinetic + sim.energy().internal);
+    }
+    const double v0 = body_mean(sim.particles(), 0, Field::vx);
+    const double v1 = body_mean(sim.particles(), 1, Field::vx);
+    SCOPED_TRACE(std::string(name_of(tr)));
+    EXPECT_LT(emax, 1.01 * e0);
+    EXPECT_LT(v0, -0.5);  // body 0 came in at +1 m/s and goes back
+    EXPECT_GT(v1, 0.5);
+    EXPECT_NEAR(v0, -v1, 1e-9);  // equal and opposite (momentum)
+    RecordProperty("rebound_" + std::string(name_of(tr)), std::to_string(-v0));
+  }
 }
