@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,12 @@ using Eigen::Vector3d;
 namespace {
 
 constexpr double kRho = 1000.0;
+
+std::string sci(double v) {
+  std::ostringstream o;
+  o << std::scientific << v;
+  return o.str();
+}
 
 MaterialPtr elastic(double young) {
   return std::make_shared<LinearElastic>(kRho, young, 0.25);
@@ -68,8 +75,8 @@ Slide slide(double mu, ContactKind kind) {
                       BoundaryKind::slip, BoundaryKind::fixed, BoundaryKind::none};
   cfg.contact.kind = kind;
   cfg.contact.friction = mu;
-  // E = 1e7 Pa: c = 100 m/s, 100x the sliding speed; the static sag rho g H / E ~ 1e-4 is nil.
-  Simulation sim(cfg, std::move(s), {elastic(1e7)}, 2);
+  // E = 2.5e6 Pa: c = 50 m/s, 50x the sliding speed; the static sag rho g H / E ~ 2e-4 is nil.
+  Simulation sim(cfg, std::move(s), {elastic(2.5e6)}, 2);
   Slide out;
   for (double t = 0.0; t <= 0.12 + 1e-12; t += 0.005) {
     sim.advance_to(t);
@@ -98,11 +105,11 @@ double slope(const Slide& s, double t0) {
 TEST(Contact, BlockSlidingOnABlockDeceleratesAtMuG) {
   // Coulomb sliding: a = -mu g while the block slides (it stops at v0 / (mu g) = 0.34 s, after
   // the window, which ends at 0.12 s). The fit starts at 20 ms, after the first ~10 oscillations of
-  // the normal force (the block starts unstressed and settles onto the slab: period 4 H / c = 1.6
-  // ms). Tolerance 15% of mu g. Measured 1.095 mu g (1.107 over 20-200 ms): the grid's normal
-  // force still rings around m g, the nodes under the block's end faces carry tilted normals,
-  // and the block is 2 cells thick. With the correction also applied to the remapped velocities
-  // it was 1.014 mu g, but that variant creates energy (HeadOnCubes below; docs/verification.md).
+  // the normal force (the block starts unstressed and settles onto the slab: period 4 H / c = 3.2
+  // ms). Tolerance 15% of mu g. Measured 1.036 mu g (1.095 with a 4x stiffer block): the grid's
+  // normal force still rings around m g, the nodes under the block's end faces carry tilted
+  // normals, and the block is 2 cells thick. Correcting the remapped velocities as well gave
+  // 1.014 mu g, but that variant creates energy (HeadOnCubes below; docs/verification.md).
   const double mu = 0.3, g = 9.81;
   const Slide s = slide(mu, ContactKind::multi_field);
   const double a = slope(s, 0.02);
@@ -111,7 +118,7 @@ TEST(Contact, BlockSlidingOnABlockDeceleratesAtMuG) {
   // Frictionless: the block keeps its speed (|a| below 2% of the mu = 0.3 deceleration).
   const Slide free = slide(0.0, ContactKind::multi_field);
   const double a0 = slope(free, 0.02);
-  RecordProperty("frictionless_deceleration", std::to_string(a0));
+  RecordProperty("frictionless_deceleration", sci(a0));
   EXPECT_LT(std::abs(a0), 0.02 * mu * g);
   EXPECT_GT(free.vx.back(), 0.98);
 }
@@ -154,7 +161,7 @@ Bounce bounce(ContactKind kind, double mu, int threads = 2,
   Simulation& sim = *b.sim;
   double last = body_mean(sim.particles(), 0, Field::vz, true);
   b.pz0 = last;
-  while (sim.time() < 0.12) {
+  while (sim.time() < 0.1) {
     sim.step();
     const ParticleStore& P = sim.particles();
     const double pz = body_mean(P, 0, Field::vz, true);
@@ -174,7 +181,6 @@ Bounce bounce(ContactKind kind, double mu, int threads = 2,
 TEST(Contact, SphereBouncesOffAPlateWithoutStickingOrInterpenetrating) {
   // Frictionless, so that every force the plate exerts on the sphere lies along a contact normal.
   const Bounce b = bounce(ContactKind::multi_field, 0.0);
-  const Bounce with_friction = bounce(ContactKind::multi_field, 0.3);
   // Only compression crosses the interface: the plate can only push the sphere up, so the
   // sphere's z momentum never decreases. Tolerance 1e-9 of its initial momentum: the momentum
   // round-off of this scene (below; measured drop 3.5e-11); the single field's pull is 1.7e-2.
@@ -188,12 +194,12 @@ TEST(Contact, SphereBouncesOffAPlateWithoutStickingOrInterpenetrating) {
   // Momentum: the corrections are equal and opposite. Bound 1e-9 of sum m|v|: the same scene
   // with the single shared field drifts 9.7e-11 over its ~1100 steps (round-off of the nodal
   // sums; nodes lighter than the empty-node threshold drop their force), and contact may not
-  // add more than that order (measured 2.8e-10 with friction 0.3, 1e-10 without).
+  // add more than that order (measured 2.4e-10; with friction 0.3 in ThreadCountDoesNot...).
   EXPECT_LT(b.momentum_error, 1e-9);
-  EXPECT_LT(with_friction.momentum_error, 1e-9);
   RecordProperty("min_gap_m", std::to_string(b.min_gap));
   RecordProperty("rebound_ratio", std::to_string(b.pz_final / std::abs(b.pz0)));
-  RecordProperty("momentum_error", std::to_string(b.momentum_error));
+  RecordProperty("momentum_error", sci(b.momentum_error));
+  RecordProperty("tension_drop", sci(b.pz_drop / std::abs(b.pz0)));
   // The same impact with the paper's single shared field: the plate pulls the sphere back as it
   // leaves (tension across the interface), which the check above would catch.
   const Bounce glued = bounce(ContactKind::single_field, 0.0);
@@ -206,6 +212,9 @@ TEST(Contact, ThreadCountDoesNotChangeTheResult) {
   const Bounce b = bounce(ContactKind::multi_field, 0.3, 2);
   EXPECT_EQ(a.sim->energy().kinetic, b.sim->energy().kinetic);
   EXPECT_GT(a.pz_final, 0.0);  // the sphere rebounded: contact acted
+  // Momentum with friction: as in the frictionless bounce (1e-9; measured 1.4e-10).
+  EXPECT_LT(a.momentum_error, 1e-9);
+  RecordProperty("momentum_error_friction", sci(a.momentum_error));
   for (std::size_t i = 0; i < kFieldCount; ++i) {
     const Field f = static_cast<Field>(i);
     if (!a.sim->particles().has(f)) continue;
