@@ -72,9 +72,10 @@ struct Simulation::Impl {
   // Multi-velocity-field contact: set only when the scene asks for it and has two bodies or
   // more; otherwise the step is the single-field step, bitwise.
   std::unique_ptr<engine::Contact> contact;
-  double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
-  double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
-  double empty_mass = 0.0;     // nodes lighter than this are treated as empty
+  std::vector<double> step4_velocity;  // body-copy node velocities kept through the remap
+  double dt_step = 0.0;                // dt^{n+1/2} of the step being taken
+  double internal_next = 0.0;          // sum m E at t^{n+1}, reported with the next step
+  double empty_mass = 0.0;             // nodes lighter than this are treated as empty
   // The state before the step being taken, to take it again (Simulation::step).
   struct Saved {
     ParticleStore particles;
@@ -590,17 +591,35 @@ void Simulation::Impl::g2p() {
 
 template <class Shape>
 void Simulation::Impl::remap() {
+  // Where bodies meet, the strain rate takes the step-4 velocities of the body fields (USL, the
+  // velocities the contact correction and the forces acted on), not the remapped ones: FLIP
+  // particle velocities remapped to two body fields disagree with the corrected fields, and the
+  // strain rate built from them made stress that no kinetic energy paid for. A sphere bouncing
+  // off a plate left with +31% energy; two cubes meeting head-on, with the contact correction
+  // applied to the remapped fields instead, with 2.2x (docs/verification.md, contact). Keeping
+  // the step-4 velocities there never created energy in any test (as APIC, which has no remap).
+  const bool contact_nodes = grid.has_copies();
+  const std::size_t g0 = grid.shared_blocks() * SparseGrid::kBlockNodes;
+  auto& N = grid.nodes();
+  if (contact_nodes) {
+    const auto n = static_cast<std::ptrdiff_t>(N.px.size() - g0);
+    step4_velocity.resize(3 * static_cast<std::size_t>(n));
+    const auto at = step4_velocity.begin();
+    std::copy(N.px.begin() + static_cast<std::ptrdiff_t>(g0), N.px.end(), at);
+    std::copy(N.py.begin() + static_cast<std::ptrdiff_t>(g0), N.py.end(), at + n);
+    std::copy(N.pz.begin() + static_cast<std::ptrdiff_t>(g0), N.pz.end(), at + 2 * n);
+  }
   p2g<Shape>(false);
   boundaries.mirror(grid, engine::Boundaries::kMomentum);
   // The remapped velocities only feed the strain rate (MUSL); no particle velocity changes here.
   boundaries.velocities(grid, empty_mass);
-  // No contact correction here. Applied again to the remapped velocities (as Huang et al. 2011
-  // do), it corrects the strain rate of step 7 at nodes whose step-4 velocities were separating
-  // (the remap sees the FLIP particle velocities), builds stress with no kinetic energy paid for
-  // it, and two elastic cubes meeting head-on at 1 m/s left with up to 2.2x the energy they
-  // brought (uGIMP; 1.0x without it; docs/verification.md, contact). The particles already
-  // carry the step-4 correction, so the remapped fields of two bodies do not approach by more
-  // than the FLIP noise.
+  if (contact_nodes) {
+    const auto n = static_cast<std::ptrdiff_t>(N.px.size() - g0);
+    const auto at = step4_velocity.begin();
+    std::copy(at, at + n, N.px.begin() + static_cast<std::ptrdiff_t>(g0));
+    std::copy(at + n, at + 2 * n, N.py.begin() + static_cast<std::ptrdiff_t>(g0));
+    std::copy(at + 2 * n, at + 3 * n, N.pz.begin() + static_cast<std::ptrdiff_t>(g0));
+  }
 }
 
 template <class Shape>
