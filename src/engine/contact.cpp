@@ -14,13 +14,9 @@ constexpr double kMinMassRatio = 0.01;
 
 }  // namespace
 
-Contact::Contact(const ContactConfig& config, std::int64_t bodies)
-    : n_(bodies), mu_(static_cast<std::size_t>(bodies * bodies), config.friction) {
-  for (std::int64_t a = 0; a < n_; ++a) {
-    for (std::int64_t b = 0; b < n_; ++b) {
-      mu_[static_cast<std::size_t>(a * n_ + b)] = config.coefficient(a, b);
-    }
-  }
+Contact::Contact(const ContactConfig& config) : friction_(config.friction) {
+  // The last entry naming a pair wins (ContactConfig::coefficient).
+  for (const ContactPair& p : config.pairs) pairs_[key(p.a, p.b)] = p.friction;
 }
 
 double Contact::resolve(SparseGrid& grid, const Boundaries& bc, double dt,

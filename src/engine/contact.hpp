@@ -1,14 +1,15 @@
 #pragma once
 // Multi-velocity-field contact between bodies (issue 11 item 3; docs/architecture.md "Contact").
 // Where the stencils of several bodies meet, SparseGrid keeps one velocity field per body (body
-// copies of the block). After the nodal momentum update (App. A.2 step 4) and again after the
-// MUSL remap (step 6), every pair of body fields at a node is corrected as in Bardenhagen et al.
-// (2000, Eqs. 11-14; 2001): the pair moves together along the contact normal while it approaches
-// and slides with Coulomb friction, and is left alone while it separates (no tension across an
-// interface). Each correction is equal and opposite, so nodal momentum is conserved.
+// copies of the block). After the nodal momentum update (App. A.2 step 4) every pair of body
+// fields at a node is corrected as in Bardenhagen et al. (2000; 2001): the pair moves together
+// along the contact normal while it approaches and slides with Coulomb friction, and is left
+// alone while it separates (no tension across an interface). Each correction is equal and
+// opposite, so nodal momentum is conserved. (Why not again after the MUSL remap: see
+// Simulation::remap.)
 
 #include <cstdint>
-#include <vector>
+#include <unordered_map>
 
 #include "engine/boundaries.hpp"
 #include "shatter/engine/config.hpp"
@@ -18,11 +19,14 @@ namespace shatter::engine {
 
 class Contact {
  public:
-  // `bodies`: one more than the largest body id.
-  Contact(const ContactConfig& config, std::int64_t bodies);
+  explicit Contact(const ContactConfig& config);
 
+  // Coulomb coefficient of a pair of body ids: the listed pair's, else the scene-wide one.
+  // Memory grows with the listed pairs, not with the number of bodies (rubble piles).
   double friction(std::int64_t a, std::int64_t b) const {
-    return mu_[static_cast<std::size_t>(a * n_ + b)];
+    if (pairs_.empty()) return friction_;
+    const auto it = pairs_.find(key(a, b));
+    return it == pairs_.end() ? friction_ : it->second;
   }
 
   // Corrects the body fields at every node where several meet. The grid holds velocities in p*
@@ -33,8 +37,13 @@ class Contact {
   double resolve(SparseGrid& grid, const Boundaries& bc, double dt, double empty_mass) const;
 
  private:
-  std::int64_t n_ = 0;
-  std::vector<double> mu_;  // n_ x n_, symmetric
+  static std::uint64_t key(std::int64_t a, std::int64_t b) {
+    const auto lo = static_cast<std::uint64_t>(a < b ? a : b);
+    const auto hi = static_cast<std::uint64_t>(a < b ? b : a);
+    return (hi << 32) ^ lo;
+  }
+  double friction_ = 0.0;
+  std::unordered_map<std::uint64_t, double> pairs_;
 };
 
 }  // namespace shatter::engine

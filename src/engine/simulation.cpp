@@ -193,12 +193,13 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
           fmt::format("solver: contact friction must be finite and >= 0, got {}", cc.friction));
     }
     for (const ContactPair& pr : cc.pairs) {
+      constexpr std::int64_t kMaxId = std::int64_t{1} << 32;  // engine::Contact's pair key
       if (!(pr.friction >= 0.0 && std::isfinite(pr.friction)) || pr.a < 0 || pr.b < 0 ||
-          pr.a == pr.b) {
-        throw std::invalid_argument(
-            fmt::format("solver: contact pair ({}, {}) needs two different body ids >= 0 and a "
-                        "finite friction >= 0, got {}",
-                        pr.a, pr.b, pr.friction));
+          pr.a >= kMaxId || pr.b >= kMaxId || pr.a == pr.b) {
+        throw std::invalid_argument(fmt::format(
+            "solver: contact pair ({}, {}) needs two different body ids in [0, 2^32) and a "
+            "finite friction >= 0, got {}",
+            pr.a, pr.b, pr.friction));
       }
     }
     if (cc.kind == ContactKind::multi_field && particles_.has(IField::body)) {
@@ -209,7 +210,7 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
             fmt::format("particle {} has body id {} (multi-field contact needs ids >= 0)",
                         lo - body.begin(), *lo));
       }
-      if (*lo != *hi) impl_->contact = std::make_unique<engine::Contact>(cc, *hi + 1);
+      if (*lo != *hi) impl_->contact = std::make_unique<engine::Contact>(cc);
     }
   }
   const auto masses = particles_.col(Field::mass);
