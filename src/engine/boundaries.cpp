@@ -74,7 +74,15 @@ void Boundaries::constrain(const std::int64_t node[3], double& x, double& y, dou
   }
 }
 
+void Boundaries::mirror_ghosts(SparseGrid& grid) const {
+  mirror_impl(grid, kMassMomentumForce, false);
+}
+
 void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
+  mirror_impl(grid, mode, true);
+}
+
+void Boundaries::mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const {
   auto& N = grid.nodes();
   constexpr int B = SparseGrid::kBlock;
   for (int k = 0; k < count_; ++k) {
@@ -145,16 +153,17 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
       }
     };
     // Fold: what the mirror images would add to the partner nodes.
-    for_ghosts([&](std::size_t ghost, std::size_t partner) {
-      if (mode == kMassMomentumForce) N.mass[partner] += N.mass[ghost];
-      for (int d = 0; d < 3; ++d) {
-        mom[d][partner] += sign(d) * mom[d][ghost];
-        if (mode == kMassMomentumForce) force[d][partner] += sign(d) * force[d][ghost];
-        if (grads && ghost >= g0 && partner >= g0) {
-          grad[d][partner - g0] += gsign(d) * grad[d][ghost - g0];
+    if (fold)
+      for_ghosts([&](std::size_t ghost, std::size_t partner) {
+        if (mode == kMassMomentumForce) N.mass[partner] += N.mass[ghost];
+        for (int d = 0; d < 3; ++d) {
+          mom[d][partner] += sign(d) * mom[d][ghost];
+          if (mode == kMassMomentumForce) force[d][partner] += sign(d) * force[d][ghost];
+          if (grads && ghost >= g0 && partner >= g0) {
+            grad[d][partner - g0] += gsign(d) * grad[d][ghost - g0];
+          }
         }
-      }
-    });
+      });
     // Ghosts become the mirror image of the completed field.
     for_ghosts([&](std::size_t ghost, std::size_t partner) {
       if (mode == kMassMomentumForce) N.mass[ghost] = N.mass[partner];

@@ -552,6 +552,10 @@ void Simulation::Impl::grid_update() {
     // impact and +400% in the contact test), so EnergyBudget::error() shows the contact's net
     // dissipation (docs/verification.md, contact).
     contact->resolve(grid, boundaries, dt_kick, empty_mass);
+    // A ghost node and its partner across a symmetry plane (or fixed wall) need not lie in
+    // blocks that meet the same bodies, so the correction may treat them differently; the
+    // ghosts take the image of the corrected field again.
+    boundaries.mirror_ghosts(grid);
   }
   // The kinetic energy a constraint takes out of the nodal momentum leaves the particles only
   // when they take the grid velocity (APIC). FLIP particles keep their own velocity and feel a

@@ -25,10 +25,11 @@ std::int64_t SparseGrid::find(std::uint64_t k) const {
 std::int64_t SparseGrid::find_like(std::uint32_t b, std::uint64_t k) const {
   const std::int64_t s = find(k);
   if (s < 0 || meetings_.empty()) return s;
-  const std::int32_t m = meeting_of_[static_cast<std::size_t>(s)];
-  if (m < 0) return s;
-  // Where bodies meet, the field of b's body: b is a copy, or a shared block of one body.
+  // The field of b's body: b is a copy, or a shared block of one body.
   const std::int64_t body = b >= shared_ ? copy_body_[b - shared_] : block_body_[b];
+  const std::int32_t m = meeting_of_[static_cast<std::size_t>(s)];
+  // A block of one body holds that body's field only.
+  if (m < 0) return block_body_[static_cast<std::size_t>(s)] == body ? s : -1;
   const Meeting& mt = meetings_[static_cast<std::size_t>(m)];
   for (std::uint32_t c = mt.first_copy; c < mt.first_copy + mt.count; ++c) {
     if (copy_body_[c - shared_] == body) return c;
