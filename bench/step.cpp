@@ -9,6 +9,13 @@
 // Simulation::grid_bytes() / particles; <stage>_ns = wall time of that stage per particle-step
 // from Simulation::stage_timings() (stages overlap only where the graph lets them: energy and
 // time_step).
+//
+// BM_StepContact: the same body cut at its mid-plane z into two bodies (two particle groups,
+// IField::body 0 and 1) whose halves approach at 2 m/s, so the whole cross-section is an
+// interface; `single_field` and `multi_field` (solver.contact) on identical particles give the
+// cost of multi-velocity-field contact (grid copies where the bodies meet, the extra mass-gradient
+// scatter, the pair corrections) against the shared field.
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,6 +55,61 @@ void BM_Step(benchmark::State& state, ShapeKind shape) {
   state.counters["blocks"] = static_cast<double>(sim.active_blocks());
 }
 
+// make_body(n) split at the mid-plane z into two groups / bodies, lower half first.
+ParticleStore two_bodies(std::int64_t n) {
+  const ParticleStore a = bench::make_body(n, kDrift);
+  const auto z = a.col(Field::z);
+  const double mid =
+      0.5 * (*std::min_element(z.begin(), z.end()) + *std::max_element(z.begin(), z.end()));
+  std::vector<std::size_t> half[2];
+  for (std::size_t p = 0; p < a.size(); ++p) half[z[p] > mid ? 1 : 0].push_back(p);
+  ParticleStore s;
+  FieldSet fields;
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    if (a.has(static_cast<Field>(i))) fields = fields.with(static_cast<Field>(i));
+  }
+  s.require(fields);
+  s.require(IField::id);
+  s.require(IField::body);
+  for (int b = 0; b < 2; ++b) {
+    const Range r = s.add_group(0, half[b].size());
+    for (std::size_t k = 0; k < half[b].size(); ++k) {
+      const std::size_t p = r.begin + k, q = half[b][k];
+      for (std::size_t i = 0; i < kFieldCount; ++i) {
+        const Field f = static_cast<Field>(i);
+        if (a.has(f)) s.col(f)[p] = a.col(f)[q];
+      }
+      s.col(Field::vz)[p] += b == 0 ? 1.0 : -1.0;  // the halves approach
+      s.col(IField::id)[p] = static_cast<std::int64_t>(q);
+      s.col(IField::body)[p] = b;
+    }
+  }
+  return s;
+}
+
+void BM_StepContact(benchmark::State& state, ContactKind contact) {
+  const auto threads = static_cast<int>(state.range(1));
+  SolverConfig cfg;
+  cfg.cell_size = bench::kCell;
+  cfg.contact.kind = contact;
+  cfg.contact.friction = 0.5;
+  std::vector<MaterialPtr> materials{
+      std::make_shared<LinearElastic>(bench::kRho, bench::kYoung, bench::kPoisson)};
+  Simulation sim(cfg, two_bodies(state.range(0)), std::move(materials), threads);
+  sim.step();
+  const std::vector<StageTiming> before = sim.stage_timings();
+  for (auto _ : state) sim.step();
+  const std::vector<StageTiming>& after = sim.stage_timings();
+  const double n = static_cast<double>(sim.particles().size());
+  bench::report(state, sim.particles(), sim.grid_bytes());
+  const double steps = static_cast<double>(state.iterations());
+  for (std::size_t s = 0; s < after.size(); ++s) {
+    state.counters[after[s].name + "_ns"] =
+        1e9 * (after[s].seconds - before[s].seconds) / (steps * n);
+  }
+  state.counters["blocks"] = static_cast<double>(sim.active_blocks());
+}
+
 void steps(benchmark::internal::Benchmark* b) {
   bench::sizes_and_threads(b);
 }
@@ -57,5 +119,8 @@ void steps(benchmark::internal::Benchmark* b) {
 BENCHMARK_CAPTURE(BM_Step, ugimp, ShapeKind::ugimp)->Apply(steps);
 BENCHMARK_CAPTURE(BM_Step, linear, ShapeKind::linear)->Apply(steps);
 BENCHMARK_CAPTURE(BM_Step, bspline2, ShapeKind::bspline2)->Apply(steps);
+
+BENCHMARK_CAPTURE(BM_StepContact, single_field, ContactKind::single_field)->Apply(steps);
+BENCHMARK_CAPTURE(BM_StepContact, multi_field, ContactKind::multi_field)->Apply(steps);
 
 BENCHMARK_MAIN();

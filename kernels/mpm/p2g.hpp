@@ -144,4 +144,57 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
   }
 }
 
+// Mass gradient of one body's field, grad m_I = sum_p m_p grad N_I(x_p), whose direction gives
+// the contact normal (Bardenhagen et al. 2000, Sec. 3; multi-velocity-field contact). Scatters
+// only into body copies (blocks >= first_copy: nodes where several bodies meet), for particles
+// of one owner block that share one neighbour list; same colouring as p2g_block.
+template <class Shape>
+void mass_gradient_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
+                         const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
+                         std::uint32_t first_copy, SparseGrid::Nodes& nodes, P2GScratch& s) {
+  constexpr int W = Shape::kWidth;
+  constexpr int E = P2GScratch::kEdge;
+  std::fill(std::begin(s.m), std::end(s.m), 0.0);
+  std::fill(std::begin(s.fx), std::end(s.fx), 0.0);
+  std::fill(std::begin(s.fy), std::end(s.fy), 0.0);
+  std::fill(std::begin(s.fz), std::end(s.fz), 0.0);
+  Stencil<Shape> st;
+  for (const std::uint32_t p : particles) {
+    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+    st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
+    const double k = in.mass[p] * in.inv_h;
+    for (int a = 0; a < W; ++a) {
+      for (int b = 0; b < W; ++b) {
+        const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
+        for (int c = 0; c < W; ++c) {
+          const int i = row + c;
+          s.m[i] += st.w[0][a] * st.w[1][b] * st.w[2][c];
+          s.fx[i] += k * st.dw[0][a] * st.w[1][b] * st.w[2][c];
+          s.fy[i] += k * st.w[0][a] * st.dw[1][b] * st.w[2][c];
+          s.fz[i] += k * st.w[0][a] * st.w[1][b] * st.dw[2][c];
+        }
+      }
+    }
+  }
+  constexpr int mask = SparseGrid::kBlock - 1;
+  constexpr int bits = SparseGrid::kBlockBits;
+  for (int lx = 0; lx < E; ++lx) {
+    for (int ly = 0; ly < E; ++ly) {
+      for (int lz = 0; lz < E; ++lz) {
+        const int i = (lx * E + ly) * E + lz;
+        if (s.m[i] == 0.0) continue;
+        const int sel = (lx >> bits) | ((ly >> bits) << 1) | ((lz >> bits) << 2);
+        const std::uint32_t blk = neighbours[sel];
+        if (blk < first_copy) continue;  // a shared node: no contact there
+        const std::size_t g =
+            std::size_t{blk - first_copy} * SparseGrid::kBlockNodes +
+            static_cast<std::size_t>(SparseGrid::local(lx & mask, ly & mask, lz & mask));
+        nodes.gx[g] += s.fx[i];
+        nodes.gy[g] += s.fy[i];
+        nodes.gz[g] += s.fz[i];
+      }
+    }
+  }
+}
+
 }  // namespace shatter::kernels

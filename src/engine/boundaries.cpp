@@ -74,7 +74,15 @@ void Boundaries::constrain(const std::int64_t node[3], double& x, double& y, dou
   }
 }
 
+void Boundaries::mirror_ghosts(SparseGrid& grid) const {
+  mirror_impl(grid, kMassMomentumForce, false);
+}
+
 void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
+  mirror_impl(grid, mode, true);
+}
+
+void Boundaries::mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const {
   auto& N = grid.nodes();
   constexpr int B = SparseGrid::kBlock;
   for (int k = 0; k < count_; ++k) {
@@ -89,10 +97,17 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
     auto sign = [&](int d) { return fixed || d == pl.axis ? -1.0 : 1.0; };
     double* mom[3] = {N.px.data(), N.py.data(), N.pz.data()};
     double* force[3] = {N.fx.data(), N.fy.data(), N.fz.data()};
+    // Mass gradients of body copies (contact normals): mass is even under the mirror, so the
+    // normal component of its gradient is odd, the tangential ones even.
+    double* grad[3] = {N.gx.data(), N.gy.data(), N.gz.data()};
+    const std::size_t g0 = grid.shared_blocks() * SparseGrid::kBlockNodes;
+    const bool grads = mode == kMassMomentumForce && grid.has_copies();
+    auto gsign = [&](int d) { return d == pl.axis ? -1.0 : 1.0; };
     // Visits the ghost nodes within a stencil's reach (3 nodes) of the plane together with
     // their partner nodes; the pass functor gets (ghost, partner) global node indices.
     auto for_ghosts = [&](auto&& pass) {
       for (std::uint32_t b = 0; b < grid.blocks(); ++b) {
+        if (grid.meets(b)) continue;  // its field lives in the body copies
         const SparseGrid::Coord c = grid.coord(b);
         const std::int64_t bc[3] = {c.x, c.y, c.z};
         const std::int64_t lo = bc[pl.axis] * B;
@@ -109,12 +124,15 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
             // On the plane the mirror cancels the normal component.
             mom[pl.axis][node] = 0.0;
             if (mode == kMassMomentumForce) force[pl.axis][node] = 0.0;
+            if (grads && node >= g0) grad[pl.axis][node - g0] = 0.0;
             continue;
           }
           if (!ghost || std::abs(i - pl.index) > 3) continue;
           std::int64_t q[3] = {g[0], g[1], g[2]};
           q[pl.axis] = 2 * pl.index - i;
-          const std::int64_t pb = grid.find(SparseGrid::key(q[0] >> 2, q[1] >> 2, q[2] >> 2));
+          // The partner in the same velocity field (the same body's copy where bodies meet).
+          const std::int64_t pb =
+              grid.find_like(b, SparseGrid::key(q[0] >> 2, q[1] >> 2, q[2] >> 2));
           if (pb < 0) {
             // No particle reaches the partner: nothing to mirror, and beyond a fixed wall the
             // image of empty space is at rest.
@@ -135,19 +153,26 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
       }
     };
     // Fold: what the mirror images would add to the partner nodes.
-    for_ghosts([&](std::size_t ghost, std::size_t partner) {
-      if (mode == kMassMomentumForce) N.mass[partner] += N.mass[ghost];
-      for (int d = 0; d < 3; ++d) {
-        mom[d][partner] += sign(d) * mom[d][ghost];
-        if (mode == kMassMomentumForce) force[d][partner] += sign(d) * force[d][ghost];
-      }
-    });
+    if (fold)
+      for_ghosts([&](std::size_t ghost, std::size_t partner) {
+        if (mode == kMassMomentumForce) N.mass[partner] += N.mass[ghost];
+        for (int d = 0; d < 3; ++d) {
+          mom[d][partner] += sign(d) * mom[d][ghost];
+          if (mode == kMassMomentumForce) force[d][partner] += sign(d) * force[d][ghost];
+          if (grads && ghost >= g0 && partner >= g0) {
+            grad[d][partner - g0] += gsign(d) * grad[d][ghost - g0];
+          }
+        }
+      });
     // Ghosts become the mirror image of the completed field.
     for_ghosts([&](std::size_t ghost, std::size_t partner) {
       if (mode == kMassMomentumForce) N.mass[ghost] = N.mass[partner];
       for (int d = 0; d < 3; ++d) {
         mom[d][ghost] = sign(d) * mom[d][partner];
         if (mode == kMassMomentumForce) force[d][ghost] = sign(d) * force[d][partner];
+        if (grads && ghost >= g0 && partner >= g0) {
+          grad[d][ghost - g0] = gsign(d) * grad[d][partner - g0];
+        }
       }
     });
   }

@@ -26,6 +26,10 @@ class Boundaries {
   // then take the mirror of the completed field. A half model then sees exactly the field of the
   // full symmetric model.
   void mirror(SparseGrid& grid, MirrorMode mode) const;
+  // Only the second half of mirror(): ghost nodes take the image of their partners' p* and f*
+  // arrays (velocity and acceleration after integrate()). Used after the contact correction,
+  // which treats a ghost and its partner separately (their blocks need not meet the same bodies).
+  void mirror_ghosts(SparseGrid& grid) const;
 
   // Steps 2-4: gravity, constraints on momentum and force, P^{n+1/2} = P^{n-1/2} + F dt^n
   // (Eq. 27). Leaves the nodal acceleration F/M in f* and velocity P^{n+1/2}/M in p*. Returns the
@@ -36,16 +40,18 @@ class Boundaries {
   // nodal kinetic energy the constraints removed (a diagnostic: no particle velocity changes).
   double velocities(SparseGrid& grid, double empty_mass) const;
 
+  bool constrained() const { return count_ > 0; }
+  // Zeroes the constrained components of (x, y, z) at global node `node` (steps 2-3).
+  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const;
+
  private:
+  void mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const;
   struct Plane {
     int axis;
     int side;            // -1: the domain's low face (material at i >= index), +1: high face
     std::int64_t index;  // node index of the plane along axis
     BoundaryKind kind;
   };
-  // Zeroes the constrained components of (x, y, z) at a node; returns which were zeroed.
-  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const;
-
   std::array<Plane, 6> planes_{};
   int count_ = 0;
   Domain domain_;

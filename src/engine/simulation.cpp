@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/boundaries.hpp"
+#include "engine/contact.hpp"
 #include "engine/kernel_inputs.hpp"
 #include "engine/stage_graph.hpp"
 #include "shatter/grid/sparse_grid.hpp"
@@ -68,9 +69,13 @@ struct Simulation::Impl {
   AlignedVector<double> dx, dy, dz, kinetic, potential;
   AlignedVector<double> bx, by, bz;  // body force per unit mass, when the scene has one
   engine::Boundaries boundaries;
-  double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
-  double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
-  double empty_mass = 0.0;     // nodes lighter than this are treated as empty
+  // Multi-velocity-field contact: set only when the scene asks for it and has two bodies or
+  // more; otherwise the step is the single-field step, bitwise.
+  std::unique_ptr<engine::Contact> contact;
+  std::vector<double> step4_velocity;  // body-copy node velocities kept through the remap
+  double dt_step = 0.0;                // dt^{n+1/2} of the step being taken
+  double internal_next = 0.0;          // sum m E at t^{n+1}, reported with the next step
+  double empty_mass = 0.0;             // nodes lighter than this are treated as empty
   // The state before the step being taken, to take it again (Simulation::step).
   struct Saved {
     ParticleStore particles;
@@ -92,6 +97,8 @@ struct Simulation::Impl {
   void sort();
   template <class Shape>
   void p2g(bool with_force);
+  template <class Shape>
+  void p2g_bodies(const kernels::P2GParticles& in, bool with_force);
   void grid_update();
   template <class Shape>
   void g2p();
@@ -179,6 +186,33 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
   }
 
   impl_ = std::make_unique<Impl>(*this, threads);
+  {
+    const ContactConfig& cc = config_.contact;
+    if (!(cc.friction >= 0.0 && std::isfinite(cc.friction))) {
+      throw std::invalid_argument(
+          fmt::format("solver: contact friction must be finite and >= 0, got {}", cc.friction));
+    }
+    for (const ContactPair& pr : cc.pairs) {
+      constexpr std::int64_t kMaxId = std::int64_t{1} << 32;  // engine::Contact's pair key
+      if (!(pr.friction >= 0.0 && std::isfinite(pr.friction)) || pr.a < 0 || pr.b < 0 ||
+          pr.a >= kMaxId || pr.b >= kMaxId || pr.a == pr.b) {
+        throw std::invalid_argument(fmt::format(
+            "solver: contact pair ({}, {}) needs two different body ids in [0, 2^32) and a "
+            "finite friction >= 0, got {}",
+            pr.a, pr.b, pr.friction));
+      }
+    }
+    if (cc.kind == ContactKind::multi_field && particles_.has(IField::body)) {
+      const auto body = particles_.col(IField::body);
+      const auto [lo, hi] = std::minmax_element(body.begin(), body.end());
+      if (*lo < 0) {
+        throw std::invalid_argument(
+            fmt::format("particle {} has body id {} (multi-field contact needs ids >= 0)",
+                        lo - body.begin(), *lo));
+      }
+      if (*lo != *hi) impl_->contact = std::make_unique<engine::Contact>(cc);
+    }
+  }
   const auto masses = particles_.col(Field::mass);
   impl_->empty_mass = 1e-12 * *std::min_element(masses.begin(), masses.end());
 
@@ -406,7 +440,12 @@ void Simulation::Impl::sort() {
     for (std::size_t k = 0; k < n; ++k) sorted[k] = owner_keys[order[k]];
     owner_keys.swap(sorted);
   }
-  grid.assign(owner_keys);
+  if (contact) {
+    const auto body = P.col(IField::body);
+    grid.assign(owner_keys, {body.data(), body.size()});
+  } else {
+    grid.assign(owner_keys);
+  }
 }
 
 template <class Shape>
@@ -429,6 +468,10 @@ void Simulation::Impl::p2g(bool with_force) {
     std::fill(N.px.begin(), N.px.end(), 0.0);
     std::fill(N.py.begin(), N.py.end(), 0.0);
     std::fill(N.pz.begin(), N.pz.end(), 0.0);
+  }
+  if (grid.has_copies()) {
+    p2g_bodies<Shape>(in, with_force);
+    return;
   }
   // Colour by colour: blocks of one colour never share a node (see SparseGrid).
   for (int c = 0; c < SparseGrid::kColours; ++c) {
@@ -454,11 +497,66 @@ void Simulation::Impl::p2g(bool with_force) {
   }
 }
 
+// P2G where bodies meet: the particles of an owner block scatter in runs that share one
+// neighbour list (one per body next to a meeting block), into their own body's copies; runs
+// that reach copies also scatter their mass gradient (the contact normal). Same colouring as
+// p2g, so the sums at every node are still formed in a fixed order.
+template <class Shape>
+void Simulation::Impl::p2g_bodies(const kernels::P2GParticles& in, bool with_force) {
+  const bool affine = sim.config_.transfer == TransferKind::apic;
+  const auto first_copy = static_cast<std::uint32_t>(grid.shared_blocks());
+  for (int c = 0; c < SparseGrid::kColours; ++c) {
+    const auto blocks = grid.colour(c);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          kernels::P2GScratch scratch;
+          for (std::size_t k = r.begin(); k < r.end(); ++k) {
+            const std::uint32_t b = blocks[k];
+            const auto owned = grid.owned(b);
+            std::size_t i = 0;
+            while (i < owned.size()) {
+              const std::uint32_t list = grid.list_of(owned[i]);
+              std::size_t j = i + 1;
+              while (j < owned.size() && grid.list_of(owned[j]) == list) ++j;
+              const auto run = owned.subspan(i, j - i);
+              const std::uint32_t* nb = grid.list(list);
+              if (with_force && affine) {
+                kernels::p2g_block<Shape, true, true>(in, run, grid.coord(b), nb, grid.nodes(),
+                                                      scratch);
+              } else if (with_force) {
+                kernels::p2g_block<Shape, true>(in, run, grid.coord(b), nb, grid.nodes(), scratch);
+              } else {
+                kernels::p2g_block<Shape, false>(in, run, grid.coord(b), nb, grid.nodes(), scratch);
+              }
+              if (with_force && list != b * 8) {
+                kernels::mass_gradient_block<Shape>(in, run, grid.coord(b), nb, first_copy,
+                                                    grid.nodes(), scratch);
+              }
+              i = j;
+            }
+          }
+        });
+  }
+}
+
 void Simulation::Impl::grid_update() {
   const Clock& clk = sim.clock_;
   const double dt_kick = 0.5 * (clk.dt_prev + dt_step);  // leapfrog dt^n (Fig. 16)
   boundaries.mirror(grid, engine::Boundaries::kMassMomentumForce);
   const double removed = boundaries.integrate(grid, sim.config_.gravity, dt_kick, empty_mass);
+  if (grid.has_copies()) {
+    // Contact after the momentum update (end of step 4): G2P hands the particles the corrected
+    // velocity and acceleration. What the correction takes out of the nodal kinetic energy is
+    // not booked: it is not what the FLIP particles lose (booking it gave +33% error in the lab
+    // impact and +400% in the contact test), so EnergyBudget::error() shows the contact's net
+    // dissipation (docs/verification.md, contact).
+    contact->resolve(grid, boundaries, dt_kick, empty_mass);
+    // A ghost node and its partner across a symmetry plane (or fixed wall) need not lie in
+    // blocks that meet the same bodies, so the correction may treat them differently; the
+    // ghosts take the image of the corrected field again.
+    boundaries.mirror_ghosts(grid);
+  }
   // The kinetic energy a constraint takes out of the nodal momentum leaves the particles only
   // when they take the grid velocity (APIC). FLIP particles keep their own velocity and feel a
   // wall only through the constrained acceleration, so there is nothing to book: an ideal wall
@@ -483,7 +581,8 @@ void Simulation::Impl::g2p() {
         for (std::size_t p = r.begin(); p < r.end(); ++p) {
           const double v0[3] = {in.vx[p], in.vy[p], in.vz[p]};
           const std::uint32_t b = grid.owner_of(p);
-          kernels::g2p_particle<Shape>(in, p, grid.coord(b), grid.neighbours(b), grid.nodes());
+          kernels::g2p_particle<Shape>(in, p, grid.coord(b), grid.particle_neighbours(p),
+                                       grid.nodes());
           // Velocity at t^n, v^{n-1/2} + a dt^{n-1/2}/2, makes the kinetic energy
           // time-centred with the internal energy (second-order energy error).
           const double w = in.dt_velocity > 0 ? half_dt_prev / in.dt_velocity : 0.0;
@@ -497,10 +596,35 @@ void Simulation::Impl::g2p() {
 
 template <class Shape>
 void Simulation::Impl::remap() {
+  // Where bodies meet, the strain rate takes the step-4 velocities of the body fields (USL, the
+  // velocities the contact correction and the forces acted on), not the remapped ones: FLIP
+  // particle velocities remapped to two body fields disagree with the corrected fields, and the
+  // strain rate built from them made stress that no kinetic energy paid for. A sphere bouncing
+  // off a plate left with +31% energy; two cubes meeting head-on, with the contact correction
+  // applied to the remapped fields instead, with 2.2x (docs/verification.md, contact). Keeping
+  // the step-4 velocities there never created energy in any test (as APIC, which has no remap).
+  const bool contact_nodes = grid.has_copies();
+  const std::size_t g0 = grid.shared_blocks() * SparseGrid::kBlockNodes;
+  auto& N = grid.nodes();
+  if (contact_nodes) {
+    const auto n = static_cast<std::ptrdiff_t>(N.px.size() - g0);
+    step4_velocity.resize(3 * static_cast<std::size_t>(n));
+    const auto at = step4_velocity.begin();
+    std::copy(N.px.begin() + static_cast<std::ptrdiff_t>(g0), N.px.end(), at);
+    std::copy(N.py.begin() + static_cast<std::ptrdiff_t>(g0), N.py.end(), at + n);
+    std::copy(N.pz.begin() + static_cast<std::ptrdiff_t>(g0), N.pz.end(), at + 2 * n);
+  }
   p2g<Shape>(false);
   boundaries.mirror(grid, engine::Boundaries::kMomentum);
   // The remapped velocities only feed the strain rate (MUSL); no particle velocity changes here.
   boundaries.velocities(grid, empty_mass);
+  if (contact_nodes) {
+    const auto n = static_cast<std::ptrdiff_t>(N.px.size() - g0);
+    const auto at = step4_velocity.begin();
+    std::copy(at, at + n, N.px.begin() + static_cast<std::ptrdiff_t>(g0));
+    std::copy(at + n, at + 2 * n, N.py.begin() + static_cast<std::ptrdiff_t>(g0));
+    std::copy(at + 2 * n, at + 3 * n, N.pz.begin() + static_cast<std::ptrdiff_t>(g0));
+  }
 }
 
 template <class Shape>
@@ -513,7 +637,7 @@ void Simulation::Impl::velocity_gradient() {
                       for (std::size_t p = r.begin(); p < r.end(); ++p) {
                         const std::uint32_t b = grid.owner_of(p);
                         kernels::velocity_gradient_particle<Shape>(
-                            in, p, grid.coord(b), grid.neighbours(b), grid.nodes());
+                            in, p, grid.coord(b), grid.particle_neighbours(p), grid.nodes());
                       }
                     });
 }

@@ -22,8 +22,24 @@ std::int64_t SparseGrid::find(std::uint64_t k) const {
   return it == index_.end() ? -1 : static_cast<std::int64_t>(it->second);
 }
 
+std::int64_t SparseGrid::find_like(std::uint32_t b, std::uint64_t k) const {
+  const std::int64_t s = find(k);
+  if (s < 0 || meetings_.empty()) return s;
+  // The field of b's body: b is a copy, or a shared block of one body.
+  const std::int64_t body = b >= shared_ ? copy_body_[b - shared_] : block_body_[b];
+  const std::int32_t m = meeting_of_[static_cast<std::size_t>(s)];
+  // A block of one body holds that body's field only.
+  if (m < 0) return block_body_[static_cast<std::size_t>(s)] == body ? s : -1;
+  const Meeting& mt = meetings_[static_cast<std::size_t>(m)];
+  for (std::uint32_t c = mt.first_copy; c < mt.first_copy + mt.count; ++c) {
+    if (copy_body_[c - shared_] == body) return c;
+  }
+  return -1;
+}
+
 std::size_t SparseGrid::bytes() const {
-  const std::size_t node_bytes = 7 * sizeof(double) * nodes_.mass.size();
+  const std::size_t node_bytes =
+      7 * sizeof(double) * nodes_.mass.size() + 3 * sizeof(double) * nodes_.gx.size();
   const std::size_t block_bytes =
       blocks() * (sizeof(std::uint64_t) + sizeof(Coord) + 8 * sizeof(std::uint32_t) +
                   sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t) /* hash entry, approx */);
@@ -32,13 +48,17 @@ std::size_t SparseGrid::bytes() const {
   return node_bytes + block_bytes + particle_bytes;
 }
 
-bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys) {
+bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
+                        std::span<const std::int64_t> bodies) {
   const std::size_t n = owner_keys.size();
   if (n == last_keys_.size() &&
-      std::equal(owner_keys.begin(), owner_keys.end(), last_keys_.begin())) {
+      std::equal(owner_keys.begin(), owner_keys.end(), last_keys_.begin()) &&
+      bodies.size() == last_bodies_.size() &&
+      std::equal(bodies.begin(), bodies.end(), last_bodies_.begin())) {
     return false;
   }
   last_keys_.assign(owner_keys.begin(), owner_keys.end());
+  last_bodies_.assign(bodies.begin(), bodies.end());
 
   // Owner blocks: particles are mostly block-sorted, so collecting the keys where the key changes
   // along the particle order gives a short list to sort.
@@ -101,12 +121,125 @@ bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys) {
   std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
   for (std::size_t p = 0; p < n; ++p) particles_[fill[owner_[p]]++] = static_cast<std::uint32_t>(p);
 
-  const std::size_t nn = nb * kBlockNodes;
+  shared_ = nb;
+  meetings_.clear();
+  copy_body_.clear();
+  list_of_.clear();
+  if (!bodies.empty()) assign_bodies(bodies);
+
+  const std::size_t nn = blocks() * kBlockNodes;
   for (auto* v :
        {&nodes_.mass, &nodes_.px, &nodes_.py, &nodes_.pz, &nodes_.fx, &nodes_.fy, &nodes_.fz}) {
     v->resize(nn);
   }
+  const std::size_t ng = (blocks() - shared_) * kBlockNodes;
+  for (auto* v : {&nodes_.gx, &nodes_.gy, &nodes_.gz}) v->resize(ng);
   return true;
+}
+
+void SparseGrid::assign_bodies(std::span<const std::int64_t> bodies) {
+  const std::size_t nb = shared_;
+  // Bodies of each owner block's particles (sorted, distinct), CSR by owner block.
+  std::vector<std::uint32_t> bstart(nb + 1, 0);
+  std::vector<std::int64_t> blist;
+  std::vector<std::int64_t> tmp;
+  bool several = false;
+  for (std::size_t b = 0; b < nb; ++b) {
+    tmp.clear();
+    for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k) {
+      const std::int64_t body = bodies[particles_[k]];
+      if (tmp.empty() || tmp.back() != body) tmp.push_back(body);
+    }
+    std::sort(tmp.begin(), tmp.end());
+    tmp.erase(std::unique(tmp.begin(), tmp.end()), tmp.end());
+    if (!blist.empty() && !tmp.empty() && tmp.front() != blist.front()) several = true;
+    if (tmp.size() > 1) several = true;
+    blist.insert(blist.end(), tmp.begin(), tmp.end());
+    bstart[b + 1] = static_cast<std::uint32_t>(blist.size());
+  }
+  if (!several) return;  // one body: the shared grid is its field
+
+  // Blocks reached by several bodies: each owner's bodies reach its 8 neighbour blocks.
+  constexpr std::int64_t kNone = -1, kSeveral = -2;
+  block_body_.assign(nb, kNone);
+  for (std::size_t o = 0; o < nb; ++o) {
+    for (std::uint32_t k = bstart[o]; k < bstart[o + 1]; ++k) {
+      for (int s = 0; s < 8; ++s) {
+        std::int64_t& tag = block_body_[neighbours_[o * 8 + static_cast<std::size_t>(s)]];
+        if (tag == kNone) {
+          tag = blist[k];
+        } else if (tag != blist[k]) {
+          tag = kSeveral;
+        }
+      }
+    }
+  }
+  // Their body sets, then one copy per (block, body), in block order.
+  meeting_of_.assign(nb, -1);
+  std::vector<std::vector<std::int64_t>> sets;
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (block_body_[b] != kSeveral) continue;
+    meeting_of_[b] = static_cast<std::int32_t>(sets.size());
+    sets.emplace_back();
+  }
+  if (sets.empty()) return;
+  for (std::size_t o = 0; o < nb; ++o) {
+    for (int s = 0; s < 8; ++s) {
+      const std::int32_t m = meeting_of_[neighbours_[o * 8 + static_cast<std::size_t>(s)]];
+      if (m < 0) continue;
+      auto& set = sets[static_cast<std::size_t>(m)];
+      set.insert(set.end(), blist.begin() + bstart[o], blist.begin() + bstart[o + 1]);
+    }
+  }
+  for (std::size_t b = 0; b < nb; ++b) {
+    const std::int32_t m = meeting_of_[b];
+    if (m < 0) continue;
+    auto& set = sets[static_cast<std::size_t>(m)];
+    std::sort(set.begin(), set.end());
+    set.erase(std::unique(set.begin(), set.end()), set.end());
+    meetings_.push_back({static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(blocks()),
+                         static_cast<std::uint32_t>(set.size())});
+    const Coord c = coords_[b];
+    for (const std::int64_t body : set) {
+      coords_.push_back(c);
+      copy_body_.push_back(body);
+    }
+  }
+  // Neighbour lists per (owner, body) for owners next to a meeting block; every other particle
+  // keeps its owner's list.
+  list_of_.resize(owner_.size());
+  for (std::size_t o = 0; o < nb; ++o) {
+    bool near = false;
+    for (int s = 0; s < 8; ++s)
+      near |= meeting_of_[neighbours_[o * 8 + static_cast<std::size_t>(s)]] >= 0;
+    const std::uint32_t first_list = static_cast<std::uint32_t>(neighbours_.size());
+    if (near) {
+      for (std::uint32_t k = bstart[o]; k < bstart[o + 1]; ++k) {
+        for (int s = 0; s < 8; ++s) {
+          const std::uint32_t nbr = neighbours_[o * 8 + static_cast<std::size_t>(s)];
+          const std::int32_t m = meeting_of_[nbr];
+          std::uint32_t target = nbr;
+          if (m >= 0) {
+            const Meeting& mt = meetings_[static_cast<std::size_t>(m)];
+            for (std::uint32_t c = mt.first_copy; c < mt.first_copy + mt.count; ++c) {
+              if (copy_body_[c - nb] == blist[k]) target = c;
+            }
+          }
+          neighbours_.push_back(target);
+        }
+      }
+    }
+    for (std::uint32_t k = start_[o]; k < start_[o + 1]; ++k) {
+      const std::uint32_t p = particles_[k];
+      if (!near) {
+        list_of_[p] = static_cast<std::uint32_t>(o * 8);
+        continue;
+      }
+      const auto it =
+          std::lower_bound(blist.begin() + bstart[o], blist.begin() + bstart[o + 1], bodies[p]);
+      list_of_[p] = first_list + 8 * static_cast<std::uint32_t>(it - (blist.begin() + bstart[o]));
+    }
+  }
 }
 
 void SparseGrid::clear_nodes() {
@@ -119,6 +252,7 @@ void SparseGrid::clear_nodes() {
                                   v->begin() + static_cast<std::ptrdiff_t>(r.end()), 0.0);
                       }
                     });
+  for (auto* v : {&nodes_.gx, &nodes_.gy, &nodes_.gz}) std::fill(v->begin(), v->end(), 0.0);
 }
 
 }  // namespace shatter

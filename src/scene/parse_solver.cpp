@@ -13,6 +13,7 @@ const std::vector<std::string> kShapes = {"linear", "ugimp", "bspline2"};
 const std::vector<std::string> kTransfers = {"flip", "apic"};
 const std::vector<std::string> kPlanes = {"none", "x", "y", "z"};
 const std::vector<std::string> kBoundaries = {"none", "fixed", "slip", "symmetry", "outflow"};
+const std::vector<std::string> kContacts = {"single_field", "multi_field"};
 const std::vector<std::string> kFaces = {"x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi"};
 
 BoundaryKind boundary_of(const std::string& s) {
@@ -30,7 +31,8 @@ void read_solver(Reader& root, Scene& scene) {
   if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
   Reader r(*t, "solver");
   r.allow({"method", "shape", "transfer", "cell_size", "cfl", "end_time", "dt_max", "dt_min",
-           "gravity", "symmetry_plane", "reorder_interval", "viscosity", "sph"});
+           "gravity", "symmetry_plane", "reorder_interval", "viscosity", "sph", "contact",
+           "friction", "contact_pair"});
   r.reject_unknown();
 
   SolverConfig& c = scene.solver;
@@ -72,6 +74,52 @@ void read_solver(Reader& root, Scene& scene) {
     scene.sph.h_factor = q.positive("h_factor", q.number("h_factor", scene.sph.h_factor));
     scene.sph.alpha = q.non_negative("alpha", q.number("alpha", scene.sph.alpha));
     scene.sph.beta = q.non_negative("beta", q.number("beta", scene.sph.beta));
+  }
+
+  // Contact between bodies (engine/config.hpp ContactKind). The paper's single shared field is
+  // the default: it is what the paper ran, and it keeps earlier results bitwise.
+  const std::string contact = r.choice("contact", "single_field", kContacts);
+  c.contact.kind = contact == "multi_field" ? ContactKind::multi_field : ContactKind::single_field;
+  if (c.contact.kind == ContactKind::multi_field && scene.method == "sph") {
+    r.fail("contact",
+           "applies only with solver.method = \"mpm\" (SPH bodies meet through their "
+           "particles' pair forces)");
+  }
+  if (c.contact.kind == ContactKind::single_field) {
+    for (const char* key : {"friction", "contact_pair"}) {
+      if (r.has(key)) r.fail(key, "applies only with solver.contact = \"multi_field\"");
+    }
+  } else {
+    // Coulomb coefficient of every pair of bodies not listed in contact_pair.
+    c.contact.friction = r.non_negative("friction", r.number("friction", 0.0));
+    if (toml::node* pairs = r.table().get("contact_pair")) {
+      toml::array* a = pairs->as_array();
+      if (a == nullptr) {
+        r.fail("contact_pair",
+               "must be an array of tables ([[solver.contact_pair]] with bodies and friction)");
+      }
+      for (std::size_t k = 0; k < a->size(); ++k) {
+        toml::table* pt = (*a)[k].as_table();
+        const std::string path = fmt::format("solver.contact_pair[{}]", k);
+        if (pt == nullptr) r.fail("contact_pair", fmt::format("element {} is not a table", k));
+        Reader q(*pt, path, r.where("contact_pair"));
+        q.allow({"bodies", "friction"});
+        q.reject_unknown();
+        ContactPairSpec spec;
+        spec.where = q.where("bodies");
+        spec.key = q.key_path("bodies");
+        const toml::node* names = q.table().get("bodies");
+        const toml::array* na = names ? names->as_array() : nullptr;
+        if (na == nullptr || na->size() != 2 || !(*na)[0].is_string() || !(*na)[1].is_string()) {
+          q.fail("bodies", "must be an array of two body names, e.g. [\"projectile\", \"target\"]");
+        }
+        spec.a = (*na)[0].as_string()->get();
+        spec.b = (*na)[1].as_string()->get();
+        if (spec.a == spec.b) q.fail("bodies", "must name two different bodies");
+        spec.friction = q.non_negative("friction", q.number("friction"));
+        scene.contact_pairs.push_back(spec);
+      }
+    }
   }
 
   toml::table* v = r.subtable("viscosity");
@@ -143,6 +191,22 @@ void read_domain(Reader& root, Scene& scene) {
              fmt::format("a '{}' boundary on face {} needs domain lo and hi", kind, face));
     }
     d.faces[static_cast<std::size_t>(f)] = boundary_of(kind);
+  }
+}
+
+void resolve_contact_pairs(Scene& scene) {
+  for (const ContactPairSpec& p : scene.contact_pairs) {
+    std::int64_t ids[2] = {-1, -1};
+    const std::string* names[2] = {&p.a, &p.b};
+    for (int k = 0; k < 2; ++k) {
+      for (std::size_t g = 0; g < scene.bodies.size(); ++g) {
+        if (scene.bodies[g].name == *names[k]) ids[k] = static_cast<std::int64_t>(g);
+      }
+      if (ids[k] < 0)
+        throw SceneError(p.where, p.key, fmt::format("no body named '{}'", *names[k]));
+    }
+    // Body ids are the order of scene.bodies (scene/build.cpp sets IField::body = group).
+    scene.solver.contact.pairs.push_back({ids[0], ids[1], p.friction});
   }
 }
 

@@ -15,6 +15,8 @@ namespace shatter::scene {
 // [solver] and [domain]; fills scene.solver, end_time, symmetry_axis.
 void read_solver(Reader& root, Scene& scene);
 void read_domain(Reader& root, Scene& scene);
+// solver.contact_pair names bodies: resolved to body ids once the bodies are read.
+void resolve_contact_pairs(Scene& scene);
 
 // [fracture] and [output].
 void read_fracture(Reader& root, Scene& scene);

@@ -79,6 +79,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
     scene.bodies.push_back(read_body(b, name, scene, catalogue, placed));
   }
   if (impact) apply_impact(*impact, scene);
+  resolve_contact_pairs(scene);
   fill_and_check_bodies(scene);
   read_output(root, scene);
   scene.resolved = to_toml(doc);

@@ -6,6 +6,7 @@
 #include <functional>
 #include <limits>
 #include <string_view>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -37,6 +38,36 @@ enum class TransferKind : std::uint8_t { flip, apic };
 constexpr std::string_view name_of(TransferKind t) {
   return t == TransferKind::flip ? "flip" : "apic";
 }
+
+// How bodies meet on the grid (docs/architecture.md "Contact").
+//  single_field - one velocity field shared by every body: the MPM paper's "non-slip" contact
+//                 (Sec. 2): bodies stick and pull on each other across an interface.
+//  multi_field  - one velocity field per body where several meet (Bardenhagen et al. 2000,
+//                 2001; Huang et al. 2011): bodies push on each other only while they approach,
+//                 with Coulomb friction; separating bodies are left alone.
+enum class ContactKind : std::uint8_t { single_field, multi_field };
+constexpr std::string_view name_of(ContactKind c) {
+  return c == ContactKind::single_field ? "single_field" : "multi_field";
+}
+
+// Coulomb friction coefficient of one pair of bodies (IField::body ids), either order.
+struct ContactPair {
+  std::int64_t a = 0, b = 0;
+  double friction = 0.0;
+};
+
+struct ContactConfig {
+  ContactKind kind = ContactKind::single_field;
+  double friction = 0.0;           // every pair not listed in `pairs`
+  std::vector<ContactPair> pairs;  // the last entry naming a pair wins
+  double coefficient(std::int64_t a, std::int64_t b) const {
+    double mu = friction;
+    for (const ContactPair& p : pairs) {
+      if ((p.a == a && p.b == b) || (p.a == b && p.b == a)) mu = p.friction;
+    }
+    return mu;
+  }
+};
 
 // Boundary condition on one face of the domain box; the face lies on a grid plane.
 //  none      - open: the sparse grid simply grows (debris may fly anywhere)
@@ -95,6 +126,8 @@ struct SolverConfig {
       body_force;
   Domain domain;
   ArtificialViscosity viscosity;
+  // single_field keeps every earlier result bitwise (and is the paper's choice).
+  ContactConfig contact;
   // Physically re-order particle columns by grid block every this many steps (between re-orders
   // the block lists are index lists into the columns). 0 = never.
   unsigned reorder_interval = 25;

@@ -31,8 +31,18 @@ class SparseGrid {
   };
 
   // Node fields, one array each, indexed by block * kBlockNodes + local node.
+  // gx, gy, gz: mass gradient sum_p m_p grad N_I(x_p) of each body field (contact normals),
+  // held for body copies only: index (node - shared_blocks() * kBlockNodes); empty without them.
   struct Nodes {
     std::vector<double> mass, px, py, pz, fx, fy, fz;
+    std::vector<double> gx, gy, gz;
+  };
+
+  // A shared block reached by the stencils of several bodies (multi-velocity-field contact):
+  // its field lives in `count` body copies, blocks first_copy .. first_copy + count - 1, with
+  // bodies in increasing order; the shared block itself then stays empty.
+  struct Meeting {
+    std::uint32_t block, first_copy, count;
   };
 
   static std::uint64_t key(std::int64_t bx, std::int64_t by, std::int64_t bz) {
@@ -45,9 +55,18 @@ class SparseGrid {
   // Rebuilds blocks, particle lists and colours from the owner-block keys of all particles
   // (particle order is kept inside each block's list). Returns false when nothing changed since
   // the last call (same keys in the same order), in which case nothing is rebuilt.
-  bool assign(std::span<const std::uint64_t> owner_keys);
+  //
+  // `bodies` (optional, one body id per particle) switches on one velocity field per body where
+  // several bodies meet: every block reached by the stencils of two or more bodies gets a copy
+  // per body, appended after the shared blocks, and each particle scatters to and gathers from
+  // its own body's copies (particle_neighbours). Blocks reached by one body are shared as
+  // before, so memory grows only where bodies meet, and with one body nothing changes.
+  bool assign(std::span<const std::uint64_t> owner_keys, std::span<const std::int64_t> bodies = {});
 
+  // All blocks, body copies included (node arrays span them all).
   std::size_t blocks() const { return coords_.size(); }
+  // Blocks of the shared grid; body copies have indices shared_blocks() .. blocks() - 1.
+  std::size_t shared_blocks() const { return shared_; }
   std::size_t bytes() const;
   const Coord& coord(std::uint32_t b) const { return coords_[b]; }
   // Index of the block with this key, or -1.
@@ -63,21 +82,54 @@ class SparseGrid {
   }
   std::span<const std::uint32_t> particle_order() const { return particles_; }
   std::uint32_t owner_of(std::size_t p) const { return owner_[p]; }
+  // The 8 blocks particle p's stencil reaches, body copies where its body meets another.
+  const std::uint32_t* particle_neighbours(std::size_t p) const {
+    return list_of_.empty() ? neighbours(owner_[p]) : &neighbours_[list_of_[p]];
+  }
+  // Offset of particle p's neighbour list (equal offsets: same list); owner * 8 without bodies.
+  std::uint32_t list_of(std::size_t p) const {
+    return list_of_.empty() ? owner_[p] * 8 : list_of_[p];
+  }
+  const std::uint32_t* list(std::uint32_t offset) const { return &neighbours_[offset]; }
+  bool has_copies() const { return blocks() > shared_; }
+
+  std::span<const Meeting> meetings() const { return meetings_; }
+  // A shared block whose field lives in body copies (it stays empty).
+  bool meets(std::uint32_t b) const {
+    return !meetings_.empty() && b < shared_ && meeting_of_[b] >= 0;
+  }
+  // Body of a copy block (b >= shared_blocks()).
+  std::int64_t copy_body(std::uint32_t b) const { return copy_body_[b - shared_]; }
+  // The block at key `k` that holds the same velocity field as block b: the shared block, or,
+  // where bodies meet, the copy of b's body (-1 when that body does not reach it).
+  std::int64_t find_like(std::uint32_t b, std::uint64_t k) const;
 
   Nodes& nodes() { return nodes_; }
   const Nodes& nodes() const { return nodes_; }
   void clear_nodes();
 
  private:
+  void assign_bodies(std::span<const std::int64_t> bodies);
+
   std::vector<std::uint64_t> last_keys_;
   std::vector<std::uint64_t> block_keys_;  // sorted
   std::vector<Coord> coords_;
   std::unordered_map<std::uint64_t, std::uint32_t> index_;
-  std::vector<std::uint32_t> neighbours_;  // 8 per block (valid for owner blocks)
+  // 8 per shared block (valid for owner blocks), then 8 per (owner, body) of owners whose
+  // stencils reach a block where bodies meet
+  std::vector<std::uint32_t> neighbours_;
+  std::vector<std::int64_t> last_bodies_;
   std::array<std::vector<std::uint32_t>, kColours> colours_;
   std::vector<std::uint32_t> start_;      // CSR offsets per block
   std::vector<std::uint32_t> particles_;  // particle indices grouped by owner block
   std::vector<std::uint32_t> owner_;      // owner block per particle
+  // Body fields (empty unless assign() got bodies and two of them meet)
+  std::size_t shared_ = 0;                // shared blocks; copies follow
+  std::vector<std::int64_t> block_body_;  // per shared block: its one body, -1 where bodies meet
+  std::vector<std::int32_t> meeting_of_;  // per shared block: index into meetings_, or -1
+  std::vector<Meeting> meetings_;
+  std::vector<std::int64_t> copy_body_;  // per copy block
+  std::vector<std::uint32_t> list_of_;   // per particle: offset of its neighbour list
   Nodes nodes_;
 };
 

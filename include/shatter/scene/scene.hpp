@@ -7,7 +7,8 @@
 //   extends = "base.toml"      start from another scene and override it
 //   catalogue = "file.toml"    material catalogue (default: the one shipped, data/materials.toml)
 //   [solver]                   method, shape, cell_size, cfl, end_time, dt_max, dt_min, gravity,
-//                              symmetry_plane, reorder_interval, [solver.viscosity],
+//                              symmetry_plane, reorder_interval, contact, friction,
+//                              [[solver.contact_pair]], [solver.viscosity],
 //                              [solver.sph] (h_factor, alpha, beta)
 //   [domain]                   lo, hi, boundary, x_lo, x_hi, y_lo, y_hi, z_lo, z_hi
 //   [body.NAME]                shape + its keys, material, velocity, spacing, points_per_cell,
@@ -73,6 +74,13 @@ struct FractureSettings {
   FragmentSearchSpec search;
 };
 
+// One [[solver.contact_pair]] entry as read (body names are resolved once bodies are known).
+struct ContactPairSpec {
+  std::string a, b;
+  double friction = 0.0;
+  std::string where, key;  // for errors: "file:line" and the dotted key
+};
+
 struct Scene {
   std::string name;
   std::string description;
@@ -83,6 +91,7 @@ struct Scene {
   double end_time = 0.0;   // s
   int symmetry_axis = -1;  // 0, 1, 2 = symmetry plane x = 0, y = 0, z = 0 (positive half kept)
   std::vector<BodySpec> bodies;
+  std::vector<ContactPairSpec> contact_pairs;  // already in solver.contact.pairs as ids
   ImpactSummary impact;
   FractureSettings fracture;
   OutputSpec output;

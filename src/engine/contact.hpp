@@ -1,0 +1,49 @@
+#pragma once
+// Multi-velocity-field contact between bodies (issue 11 item 3; docs/architecture.md "Contact").
+// Where the stencils of several bodies meet, SparseGrid keeps one velocity field per body (body
+// copies of the block). After the nodal momentum update (App. A.2 step 4) every pair of body
+// fields at a node is corrected as in Bardenhagen et al. (2000; 2001): the pair moves together
+// along the contact normal while it approaches and slides with Coulomb friction, and is left
+// alone while it separates (no tension across an interface). Each correction is equal and
+// opposite, so nodal momentum is conserved. (Why not again after the MUSL remap: see
+// Simulation::remap.)
+
+#include <cstdint>
+#include <unordered_map>
+
+#include "engine/boundaries.hpp"
+#include "shatter/engine/config.hpp"
+#include "shatter/grid/sparse_grid.hpp"
+
+namespace shatter::engine {
+
+class Contact {
+ public:
+  explicit Contact(const ContactConfig& config);
+
+  // Coulomb coefficient of a pair of body ids: the listed pair's, else the scene-wide one.
+  // Memory grows with the listed pairs, not with the number of bodies (rubble piles).
+  double friction(std::int64_t a, std::int64_t b) const {
+    if (pairs_.empty()) return friction_;
+    const auto it = pairs_.find(key(a, b));
+    return it == pairs_.end() ? friction_ : it->second;
+  }
+
+  // Corrects the body fields at every node where several meet. The grid holds velocities in p*
+  // and, when dt > 0 (after step 4), accelerations in f*, which take the correction / dt so that
+  // the particles feel it (G2P). Constraints of `bc` are imposed again on corrected nodes.
+  // Returns the nodal kinetic energy the corrections removed (inelastic normal impact of the
+  // node pair and friction; >= 0).
+  double resolve(SparseGrid& grid, const Boundaries& bc, double dt, double empty_mass) const;
+
+ private:
+  static std::uint64_t key(std::int64_t a, std::int64_t b) {
+    const auto lo = static_cast<std::uint64_t>(a < b ? a : b);
+    const auto hi = static_cast<std::uint64_t>(a < b ? b : a);
+    return (hi << 32) ^ lo;
+  }
+  double friction_ = 0.0;
+  std::unordered_map<std::uint64_t, double> pairs_;
+};
+
+}  // namespace shatter::engine
