@@ -82,9 +82,16 @@ def summarise_run(run_dir, core_radius_mm):
 
 
 def statistics(rows):
+    """Mean, sample std, min and max of each quantity. A run without fragments (the whole target
+    failed) has no largest-fragment speed or position: those are over the runs that have one
+    (nan when none has)."""
     out = {}
     for key, _, _ in QUANTITIES:
         v = np.array([r[key] for r in rows], dtype=float)
+        v = v[np.isfinite(v)]
+        if len(v) == 0:
+            out[key] = (np.nan,) * 4
+            continue
         out[key] = (v.mean(), v.std(ddof=1) if len(v) > 1 else 0.0, v.min(), v.max())
     out["cores"] = sum(r["core"] for r in rows)
     out["n"] = len(rows)

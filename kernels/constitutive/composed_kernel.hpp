@@ -64,10 +64,15 @@ enum class DamageCoupling {
   total,
   // The paper's base code MPM3D-F90 (src/Constitution.f90: young_ = young_ * (1 - DMG), the
   // shear modulus G2/2 and the bulk 3K from it, and elastic_devi adds G2 (deps - deps_m) to the
-  // stored deviator): each step's deviatoric increment is 2 (1 - D^n) G deps'. The stored
-  // deviator is the damaged one; it is not rescaled when D grows and is relieved only by
-  // unloading or the plastic return. The pressure is a state function of the EOS and takes
-  // Eq. 14's p* = (1 - D^{n+1}) p in tension.
+  // stored deviator): each step's deviatoric increment is 2 (1 - D^n) G deps'. The borne
+  // deviator (that of the stress columns) is not rescaled when D grows and is relieved only by
+  // unloading or the plastic return (to the model's yield surface at D^n). The pressure is a
+  // state function of the EOS and takes Eq. 14's p* = (1 - D^{n+1}) p in tension. The
+  // undamaged deviator is still integrated (sdev) and is what the damage policy reads: Eq. 18's
+  // (1 - D) divisor turns a stress scaled by (1 - D) back into the matrix strain, which the
+  // borne stress of this form is not. Applied to the borne stress, the strain estimate grows
+  // as D grows with nothing relieving it and every point runs away to D = 1 (100.0% failed in
+  // all five 1.2 mm nominal runs; docs/validation-lab-impact.md).
   incremental,
   // Eq. 14 with D^n: the damage computed in a step reaches the stress in the next one, as the
   // MPM paper's Sec. 4.1.5 describes its code: "the damage is accumulated at the current time
@@ -168,8 +173,8 @@ class ComposedKernel {
   }
 
   // Factor on the stored deviator in the effective stress (Eq. 14) at damage D: (1 - D), except
-  // where the stored deviator already is the damaged one (incremental coupling) or the yield
-  // surface carries D (see the header comment): 1.
+  // where the yield surface carries D (see the header comment): 1. (Incremental coupling uses
+  // the borne deviator of the stress columns instead.)
   template <class T>
   T deviator_factor(const T& D) const {
     if (deviator_borne()) return T(1.0);
@@ -186,6 +191,7 @@ class ComposedKernel {
     if constexpr (!Damage::kEnabled) {
       return T(1.0);
     } else {
+      // (incremental: the increments' modulus is (1 - D) G whatever the yield surface)
       const T f = deviator_borne() && coupling_ != DamageCoupling::incremental ? T(1.0) : 1.0 - D;
       if constexpr (DamageInYield<Strength>) {
         return simd::vselect(strength_.yield_strength(p, D, ps) > 0.0, f, T(0.0));
@@ -213,13 +219,17 @@ class ComposedKernel {
     const T d_old = load_or<T>(ptr(c.damage_state[0], p), 0.0);
     const bool incremental = Damage::kEnabled && coupling_ == DamageCoupling::incremental;
 
-    // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37); with incremental coupling the
-    // increment's shear modulus is (1 - D^n) G (MPM3D-F90, DamageCoupling::incremental).
+    // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37). With incremental coupling the
+    // deviator the particle bears, sb (that of the stress columns: q and p are isotropic), gets
+    // its own trial whose increment has the shear modulus (1 - D^n) G (MPM3D-F90,
+    // DamageCoupling::incremental); s stays the undamaged deviator the damage policy reads.
+    T sb[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};
     if constexpr (Strength::kHasShear) {
+      strength::jaumann_trial(s, de, w, strength_.elastic.G);
       if (incremental) {
-        strength::jaumann_trial(s, de, w, T(strength_.elastic.G) * (1.0 - d_old));
-      } else {
-        strength::jaumann_trial(s, de, w, strength_.elastic.G);
+        const T m = (sig_old[0] + sig_old[1] + sig_old[2]) * (1.0 / 3.0);
+        for (int k = 0; k < 6; ++k) sb[k] = k < 3 ? sig_old[k] - m : sig_old[k];
+        strength::jaumann_trial(sb, de, w, T(strength_.elastic.G) * (1.0 - d_old));
       }
     }
 
@@ -243,6 +253,14 @@ class ComposedKernel {
                                  rho,
                                  e_trial,
                                  T(0.0)};
+    if constexpr (Strength::kHasShear) {
+      if (incremental) {
+        // The borne deviator returns to the same yield surface (at D^n); the pressure, plastic
+        // strain and heat are those of the undamaged return below.
+        auto pb = ps;
+        strength_.return_map(sb, pb);
+      }
+    }
     strength_.return_map(s, ps);
     const T pres = ps.p;
 
@@ -296,7 +314,11 @@ class ComposedKernel {
     // others D^{n+1}.
     const T d_sig = Damage::kEnabled && coupling_ == DamageCoupling::lagged ? d_old : dmg;
     T sig[6];
-    effective_stress(s, pres, av.q, d_sig, deviator_factor(d_sig), sig);
+    if (Strength::kHasShear && incremental) {
+      effective_stress(sb, pres, av.q, d_sig, T(1.0), sig);
+    } else {
+      effective_stress(s, pres, av.q, d_sig, deviator_factor(d_sig), sig);
+    }
     for (int k = 0; k < 6; ++k) store_col(c.stress[k] + p, sig[k]);
 
     // 8. Energy corrector: midpoint stress sigma^{n+1/2} = (sigma^n + sigma^{n+1}) / 2.
@@ -338,10 +360,9 @@ class ComposedKernel {
   // Grady-Kipp policy's own default floor, GradyKippParams::min_intact_fraction).
   static constexpr double kMinIntactFraction = 1.0e-12;
 
-  // The stored deviator is the one the particle bears (Eq. 14's (1 - D) is not applied to it).
-  bool deviator_borne() const {
-    return DamageInYield<Strength> || coupling_ == DamageCoupling::incremental;
-  }
+  // The stored deviator (sdev) is the one the particle bears: the yield surface carries D, and
+  // Eq. 14's (1 - D) is not applied to it.
+  bool deviator_borne() const { return DamageInYield<Strength>; }
 
   // Eq. 14: sigma = f s - p* I with f = deviator_factor(D) ((1 - D) or 1), p* = (1 - D) p in
   // tension, p otherwise; minus q I.
