@@ -18,7 +18,8 @@ once (default 1: the development machine has 2 shared cores; use the cores you h
 Per run (tools/plot_lab_convergence.py summarise(), the readers of tools/shatter_plot.py):
   failure ratio (points with D >= the scene's fracture.threshold) at 40 us and at 100 us
   (interpolated in timeseries.csv), the largest fragment's mass over the target mass and its
-  speed, the distance of its centre of mass from the target centre, and whether it is a core.
+  speed, the distance of its centre of mass from the target centre, whether it is a core, and
+  the largest |relative total-energy error| over the run.
 A *core* is a largest fragment whose centre lies within --core-radius (default 5 mm) of the
 target centre: the definition of docs/validation-lab-variants.md ("a central core (within 5 mm of
 the target centre)"); docs/validation-lab-impact.md's core-shaped fragments sit within 4 mm,
@@ -48,6 +49,7 @@ QUANTITIES = (
     ("largest_fraction", "largest m/M", "{:.3f}"),
     ("largest_speed", "its speed (m/s)", "{:.2f}"),
     ("largest_offset_mm", "its centre from target centre (mm)", "{:.1f}"),
+    ("energy_error", "max energy error", "{:.2%}"),
 )
 
 
@@ -75,6 +77,7 @@ def summarise_run(run_dir, core_radius_mm):
         "largest_fraction": s["largest_fraction"],
         "largest_speed": s["largest_speed"],
         "largest_offset_mm": s["largest_offset_mm"],
+        "energy_error": s["max_abs_energy_error"],
         "core": bool(s["largest_offset_mm"] <= core_radius_mm),
         "cpu_s": s["cpu_s"],
         "t_end_us": s["t_end_us"],

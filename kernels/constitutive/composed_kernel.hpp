@@ -281,19 +281,18 @@ class ComposedKernel {
     const auto av =
         artificial_viscosity(tr, inv_dt, sp.cell_size, rho, c_visc, sp.c_linear, sp.c_quadratic);
 
-    // 6. Damage from the intact stress. The policies read the stress of the intact matrix and
-    // rebuild the borne one with Eq. 14 and D^n (grady_kipp.hpp, Eq. 18). Where the stored
-    // deviator is the borne one (deviator_factor = 1), its intact equivalent is s / (1 - D^n),
-    // so that Eq. 18 sees sigma_max of the stress the particle actually bears.
+    // 6. Damage from the intact stress s - p I: the stress of the matrix at its full moduli, so
+    // s / 2G is its strain, which is what Eq. 18 asks for (the policy rebuilds Eq. 14's stress
+    // with D^n and divides by (1 - D) E, grady_kipp.hpp). That holds for a yield surface that
+    // carries D too: its elastic modulus is never degraded, only its strength. Treating its
+    // borne deviator as a (1 - D)-scaled stress (dividing it by 1 - D) makes the strain estimate
+    // grow as D grows and runs away (modified Lundborg, Y0 = 60 MPa, 1.2 mm: 96.9% failed at
+    // 100 us instead of 67%; docs/validation-lab-impact.md), as does Eq. 18 on the borne stress
+    // of the incremental coupling (DamageCoupling::incremental).
     T dmg = T(0.0);
     if constexpr (Damage::kEnabled) {
       damage::DamageInput<T> in;
-      if (deviator_borne()) {
-        const T to_intact = 1.0 / simd::vmax(1.0 - d_old, T(kMinIntactFraction));
-        for (int k = 0; k < 6; ++k) in.s[k] = s[k] * to_intact;
-      } else {
-        for (int k = 0; k < 6; ++k) in.s[k] = s[k];
-      }
+      for (int k = 0; k < 6; ++k) in.s[k] = s[k];
       for (int k = 0; k < 3; ++k) in.s[k] = in.s[k] - pres;
       in.young = T(strength_.elastic.young);
       in.soundspeed = cp;
@@ -355,10 +354,6 @@ class ComposedKernel {
       for (int k = 0; k < 3; ++k) s[k] = s[k] - m;
     }
   }
-
-  // Lower bound of 1 - D where a borne deviator is turned into its intact equivalent (the
-  // Grady-Kipp policy's own default floor, GradyKippParams::min_intact_fraction).
-  static constexpr double kMinIntactFraction = 1.0e-12;
 
   // The stored deviator (sdev) is the one the particle bears: the yield surface carries D, and
   // Eq. 14's (1 - D) is not applied to it.
