@@ -9,13 +9,25 @@
 //  2. Energy predictor E* = E^n + deps : sigma^n / rho (App. A.2 step 7).
 //  3. EOS at (rho^{n+1}, E*): pressure and c_K (Eqs. 8-12); intact c_p (Eq. 13).
 //  4. Plastic return of the strength model (App. B, Eqs. 4-6, 41-49), plastic strain and heat.
-//  5. Artificial viscosity q on compression.
+//  5. Artificial viscosity q on compression, with the longitudinal speed c_p of Eq. 13.
 //  6. Damage: the policy evolves D from the intact stress (kernels/damage).
-//  7. Effective stress sigma = (1-D) s - (p* + q) I, p* = (1-D) p in tension (Eq. 14).
+//  7. Effective stress sigma = (1-D) s - (p* + q) I, p* = (1-D) p in tension (Eq. 14), with the
+//     damage-stress coupling of the material (DamageCoupling below).
 //  8. Energy corrector E^{n+1} = E^n + deps : (sigma^n + sigma^{n+1})/2 / rho (A.2 step 7).
-//  9. Sound speed for the time step (Eq. 34): Eq. 13 with the damaged shear modulus (1-D) G.
+//  9. Sound speed for the time step (Eq. 34): Eq. 13 with the shear stiffness the next step's
+//     stress will have ((1-D) G where Eq. 14 scales the deviator).
+//
+// Strength models whose yield surface already carries D (modified Lundborg Eq. 4, Lundborg /
+// Collins Eqs. 47-49; they declare kDamageInYield) return a deviator that is the damaged rock's
+// own: Eq. 14's (1 - D) is not applied to it again. Applied twice, fully damaged rock would have
+// no shear strength at any pressure, where Eq. 4 leaves it the granular friction
+// mu_d p / (1 + mu_d p / Ym) the paper describes (Sec. 3.1). Eq. 14 is Benz & Asphaug's (1994)
+// coupling for a strength model that knows nothing of damage; Collins et al. (2004), whose damaged
+// branch Eqs. 48-49 are, let damage act through the yield strength alone. The tensile pressure
+// keeps Eq. 14's p* = (1 - D) p for every model (no yield surface caps the mean stress).
 
 #include <cstddef>
+#include <string_view>
 
 #include "constitutive/artificial_viscosity.hpp"
 #include "constitutive/simd.hpp"
@@ -43,6 +55,48 @@ struct ConstitutiveColumns {
   double* damage_state[6] = {};
 };
 
+// How the damage D reaches the stress (issue 11; docs/fracture.md, "Damage-stress coupling").
+// A material's damage.coupling key selects it (src/materials/damage_factory.cpp).
+enum class DamageCoupling {
+  // Eq. 14 with D^{n+1}: the stored undamaged deviator and the tensile pressure are scaled by
+  // (1 - D) of the end of the step, so the stress drops as soon as D grows (Benz & Asphaug 1994
+  // Eq. 13 read literally; shatter's behaviour before issue 11).
+  total,
+  // The paper's base code MPM3D-F90 (src/Constitution.f90: young_ = young_ * (1 - DMG), the
+  // shear modulus G2/2 and the bulk 3K from it, and elastic_devi adds G2 (deps - deps_m) to the
+  // stored deviator): each step's deviatoric increment is 2 (1 - D^n) G deps'. The borne
+  // deviator (that of the stress columns) is not rescaled when D grows and is relieved only by
+  // unloading or the plastic return (to the model's yield surface at D^n). The pressure is a
+  // state function of the EOS and takes Eq. 14's p* = (1 - D^{n+1}) p in tension. The
+  // undamaged deviator is still integrated (sdev) and is what the damage policy reads: Eq. 18's
+  // (1 - D) divisor turns a stress scaled by (1 - D) back into the matrix strain, which the
+  // borne stress of this form is not. Applied to the borne stress, the strain estimate grows
+  // as D grows with nothing relieving it and every point runs away to D = 1 (100.0% failed in
+  // all five 1.2 mm nominal runs; docs/validation-lab-impact.md).
+  incremental,
+  // Eq. 14 with D^n: the damage computed in a step reaches the stress in the next one, as the
+  // MPM paper's Sec. 4.1.5 describes its code: "the damage is accumulated at the current time
+  // step while the stress is not adjusted until the following time step".
+  lagged,
+};
+
+// The default: Eq. 14 (Sec. 3.3) applied as Sec. 4.1.5 says the paper's code applies it, one
+// step late. Eq. 14 alone does not say when D enters; Sec. 4.1.5 does, and the base code's
+// incremental form is not in the paper's text (docs/fracture.md).
+inline constexpr DamageCoupling kDefaultCoupling = DamageCoupling::lagged;
+
+inline constexpr std::string_view coupling_name(DamageCoupling c) {
+  return c == DamageCoupling::total         ? "total"
+         : c == DamageCoupling::incremental ? "incremental"
+                                            : "lagged";
+}
+
+// Strength models whose yield surface contains D (see the header comment).
+template <class S>
+concept DamageInYield = requires {
+  requires S::kDamageInYield;
+};
+
 struct StepParams {
   double dt = 0.0;
   double cell_size = 0.0;
@@ -61,12 +115,14 @@ class ComposedKernel {
  public:
   static constexpr bool kDamaged = Damage::kEnabled;
 
-  ComposedKernel(Eos eos, Strength strength, Damage damage)
-      : eos_(eos), strength_(strength), damage_(damage) {}
+  ComposedKernel(Eos eos, Strength strength, Damage damage,
+                 DamageCoupling coupling = kDefaultCoupling)
+      : eos_(eos), strength_(strength), damage_(damage), coupling_(coupling) {}
 
   const Eos& eos() const { return eos_; }
   const Strength& strength() const { return strength_; }
   const Damage& damage() const { return damage_; }
+  DamageCoupling coupling() const { return coupling_; }
 
   // Updates particles [begin, end): batches of simd::kWidth, then a scalar tail. With
   // use_simd = false every particle takes the scalar path (reference and benchmark baseline).
@@ -94,24 +150,55 @@ class ComposedKernel {
       if constexpr (Damage::kEnabled) {
         for (int k = 0; k < 6; ++k) c.sdev[k][p] = s[k];
       }
+      const strength::PlasticState<double> ps{
+          e.p, 0.0, simd::load_or<double>(ptr(c.heat, p), 0.0), D, rho, c.energy[p], 0.0};
       double sig[6];
-      effective_stress(s, e.p, 0.0, D, sig);
+      effective_stress(s, e.p, 0.0, D, deviator_factor(D), sig);
       for (int k = 0; k < 6; ++k) c.stress[k][p] = sig[k];
       c.pressure[p] = e.p;
-      c.soundspeed[p] = longitudinal_speed(e.c2, rho, D);
+      c.soundspeed[p] = longitudinal_speed(e.c2, rho, shear_fraction(D, e.p, ps));
     }
   }
 
-  // Eq. 13: c_p = sqrt(4G/(3 rho) + c_K^2) of the intact material (damage = 0), or of material
-  // with damage D, whose deviatoric stress is (1 - D) s (Eq. 14): its shear stiffness is
-  // (1 - D) G, so c_p^2 = 4 (1 - D) G / (3 rho) + c_K^2. Fully damaged debris (D = 1) carries
-  // no shear wave; with the intact G its shear term grows like 1/rho as it expands (39 km/s for
-  // basalt at rho = 20 kg/m^3) and sets a needlessly short step. The bulk term stays whole: in
-  // compression Eq. 14 keeps p; in tension p* = (1 - D) p would lower c_K too, and keeping the
-  // intact c_K there only errs on the safe (shorter-step) side.
+  // Eq. 13: c_p = sqrt(4 f G/(3 rho) + c_K^2) with f the fraction of the shear stiffness G the
+  // particle's stress update has (shear_fraction): 1 for intact material, (1 - D) where Eq. 14
+  // scales the deviator. Fully damaged debris (D = 1) carries no shear wave; with the intact G
+  // its shear term grows like 1/rho as it expands (39 km/s for basalt at rho = 20 kg/m^3) and
+  // sets a needlessly short step. The bulk term stays whole: in compression Eq. 14 keeps p; in
+  // tension p* = (1 - D) p would lower c_K too, and keeping the intact c_K there only errs on
+  // the safe (shorter-step) side.
   template <class T>
-  T longitudinal_speed(const T& c2, const T& rho, const T& damage = T(0.0)) const {
-    return simd::vsqrt(c2 + (4.0 / 3.0) * strength_.elastic.G * (1.0 - damage) / rho);
+  T longitudinal_speed(const T& c2, const T& rho, const T& shear = T(1.0)) const {
+    return simd::vsqrt(c2 + (4.0 / 3.0) * strength_.elastic.G * shear / rho);
+  }
+
+  // Factor on the stored deviator in the effective stress (Eq. 14) at damage D: (1 - D), except
+  // where the yield surface carries D (see the header comment): 1. (Incremental coupling uses
+  // the borne deviator of the stress columns instead.)
+  template <class T>
+  T deviator_factor(const T& D) const {
+    if (deviator_borne()) return T(1.0);
+    return 1.0 - D;
+  }
+
+  // Fraction of G in the shear stiffness of the stress update at damage D and pressure p: the
+  // deviator factor of Eq. 14, or (1 - D) of the incremental modulus; for a yield surface that
+  // carries D, 0 where it gives no strength (Y(p, D) = 0: the return sets the deviator to zero
+  // whatever the trial, so no shear wave propagates; fully damaged rock in tension), else that
+  // fraction.
+  template <class T>
+  T shear_fraction(const T& D, const T& p, const strength::PlasticState<T>& ps) const {
+    if constexpr (!Damage::kEnabled) {
+      return T(1.0);
+    } else {
+      // (incremental: the increments' modulus is (1 - D) G whatever the yield surface)
+      const T f = deviator_borne() && coupling_ != DamageCoupling::incremental ? T(1.0) : 1.0 - D;
+      if constexpr (DamageInYield<Strength>) {
+        return simd::vselect(strength_.yield_strength(p, D, ps) > 0.0, f, T(0.0));
+      } else {
+        return f;
+      }
+    }
   }
 
   template <class T>
@@ -130,10 +217,20 @@ class ComposedKernel {
     for (int k = 0; k < 6; ++k) sig_old[k] = load_col<T>(c.stress[k] + p);
     load_deviator<T>(c, p, s);
     const T d_old = load_or<T>(ptr(c.damage_state[0], p), 0.0);
+    const bool incremental = Damage::kEnabled && coupling_ == DamageCoupling::incremental;
 
-    // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37).
+    // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37). With incremental coupling the
+    // deviator the particle bears, sb (that of the stress columns: q and p are isotropic), gets
+    // its own trial whose increment has the shear modulus (1 - D^n) G (MPM3D-F90,
+    // DamageCoupling::incremental); s stays the undamaged deviator the damage policy reads.
+    T sb[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};
     if constexpr (Strength::kHasShear) {
       strength::jaumann_trial(s, de, w, strength_.elastic.G);
+      if (incremental) {
+        const T m = (sig_old[0] + sig_old[1] + sig_old[2]) * (1.0 / 3.0);
+        for (int k = 0; k < 6; ++k) sb[k] = k < 3 ? sig_old[k] - m : sig_old[k];
+        strength::jaumann_trial(sb, de, w, T(strength_.elastic.G) * (1.0 - d_old));
+      }
     }
 
     // 2. Energy predictor. The engine sets rho^{n+1} = rho^n / (1 + tr deps), i.e. the volume
@@ -156,22 +253,42 @@ class ComposedKernel {
                                  rho,
                                  e_trial,
                                  T(0.0)};
+    if constexpr (Strength::kHasShear) {
+      if (incremental) {
+        // The borne deviator returns to the same yield surface (at D^n); the pressure, plastic
+        // strain and heat are those of the undamaged return below.
+        auto pb = ps;
+        strength_.return_map(sb, pb);
+      }
+    }
     strength_.return_map(s, ps);
     const T pres = ps.p;
 
     // Eq. 13 of the intact material: the crack speed c_g = 0.4 c_p of Eq. 19 is that of a crack
     // tip running through the intact matrix between the cracks (BA95 Sec. 3), not a property of
     // the damaged particle as a whole; with (1 - D) G a particle's cracks would slow down as it
-    // fails (to 0.4 c_K at D = 1), a feedback the Grady-Kipp model does not have. The viscosity
-    // below uses the bulk c_K, which damage does not change in compression.
+    // fails (to 0.4 c_K at D = 1), a feedback the Grady-Kipp model does not have.
     const T cp = longitudinal_speed(st_eos.c2, rho);
 
-    // 5. Artificial viscosity.
+    // 5. Artificial viscosity with the longitudinal speed c_p of Eq. 13: the paper's Sec. 3.2
+    // lists "the calculation of artificial viscosity used to capture shock fronts" among the uses
+    // of c_p (and MPM3D-F90's bulkq multiplies the particle's c_p). The shear stiffness is the
+    // one this step's stress update had (shear_fraction at D^n): the speed of the wave the
+    // viscosity damps; for intact material that is Eq. 13 itself. Before issue 11 shatter used
+    // the bulk c_K here (docs/validation-lab-impact.md measures the difference).
     const double inv_dt = sp.dt > 0.0 ? 1.0 / sp.dt : 0.0;
-    const auto av = artificial_viscosity(tr, inv_dt, sp.cell_size, rho, simd::vsqrt(st_eos.c2),
-                                         sp.c_linear, sp.c_quadratic);
+    const T c_visc = longitudinal_speed(st_eos.c2, rho, shear_fraction(d_old, pres, ps));
+    const auto av =
+        artificial_viscosity(tr, inv_dt, sp.cell_size, rho, c_visc, sp.c_linear, sp.c_quadratic);
 
-    // 6. Damage from the intact stress.
+    // 6. Damage from the intact stress s - p I: the stress of the matrix at its full moduli, so
+    // s / 2G is its strain, which is what Eq. 18 asks for (the policy rebuilds Eq. 14's stress
+    // with D^n and divides by (1 - D) E, grady_kipp.hpp). That holds for a yield surface that
+    // carries D too: its elastic modulus is never degraded, only its strength. Treating its
+    // borne deviator as a (1 - D)-scaled stress (dividing it by 1 - D) makes the strain estimate
+    // grow as D grows and runs away (modified Lundborg, Y0 = 60 MPa, 1.2 mm: 96.9% failed at
+    // 100 us instead of 67%; docs/validation-lab-impact.md), as does Eq. 18 on the borne stress
+    // of the incremental coupling (DamageCoupling::incremental).
     T dmg = T(0.0);
     if constexpr (Damage::kEnabled) {
       damage::DamageInput<T> in;
@@ -192,18 +309,26 @@ class ComposedKernel {
       for (int k = 0; k < 6; ++k) store_col(c.sdev[k] + p, s[k]);
     }
 
-    // 7. Effective stress (Eq. 14) with the viscous pressure.
+    // 7. Effective stress (Eq. 14) with the viscous pressure; lagged coupling applies D^n, the
+    // others D^{n+1}.
+    const T d_sig = Damage::kEnabled && coupling_ == DamageCoupling::lagged ? d_old : dmg;
     T sig[6];
-    effective_stress(s, pres, av.q, dmg, sig);
+    if (Strength::kHasShear && incremental) {
+      effective_stress(sb, pres, av.q, d_sig, T(1.0), sig);
+    } else {
+      effective_stress(s, pres, av.q, d_sig, deviator_factor(d_sig), sig);
+    }
     for (int k = 0; k < 6; ++k) store_col(c.stress[k] + p, sig[k]);
 
     // 8. Energy corrector: midpoint stress sigma^{n+1/2} = (sigma^n + sigma^{n+1}) / 2.
     const T w_new = double_contraction(de, sig);
     store_col(c.energy + p, e_old + 0.5 * (w_old + w_new) / rho_old);
 
-    // 9. Eq. 13 with the damage of the stress just stored (Eq. 14), (1 - D^{n+1}) G, for the
-    // time step (Eq. 34): D never decreases, so the next step's stress is no stiffer than this.
-    const T cp_damaged = Damage::kEnabled ? longitudinal_speed(st_eos.c2, rho, dmg) : cp;
+    // 9. Eq. 13 with the shear stiffness of the next step's stress update, which every coupling
+    // takes at D^{n+1}, for the time step (Eq. 34): D never decreases, so that step's stress is
+    // no stiffer than this.
+    const T cp_damaged =
+        Damage::kEnabled ? longitudinal_speed(st_eos.c2, rho, shear_fraction(dmg, pres, ps)) : cp;
     store_col(c.pressure + p, pres);
     store_col(c.soundspeed + p, cp_damaged + av.speed);
     store_if(ptr(c.plastic_strain, p), ps.eps_p);
@@ -230,18 +355,25 @@ class ComposedKernel {
     }
   }
 
-  // Eq. 14: sigma = (1 - D) s - p* I, p* = (1 - D) p in tension, p otherwise; minus q I.
+  // The stored deviator (sdev) is the one the particle bears: the yield surface carries D, and
+  // Eq. 14's (1 - D) is not applied to it.
+  bool deviator_borne() const { return DamageInYield<Strength>; }
+
+  // Eq. 14: sigma = f s - p* I with f = deviator_factor(D) ((1 - D) or 1), p* = (1 - D) p in
+  // tension, p otherwise; minus q I.
   template <class T>
-  static void effective_stress(const T (&s)[6], const T& p, const T& q, const T& D, T (&sig)[6]) {
+  static void effective_stress(const T (&s)[6], const T& p, const T& q, const T& D, const T& f,
+                               T (&sig)[6]) {
     const T one_d = 1.0 - D;
     const T p_eff = simd::vselect(p < 0.0, one_d * p, p) + q;
-    for (int k = 0; k < 6; ++k) sig[k] = one_d * s[k];
+    for (int k = 0; k < 6; ++k) sig[k] = f * s[k];
     for (int k = 0; k < 3; ++k) sig[k] = sig[k] - p_eff;
   }
 
   Eos eos_;
   Strength strength_;
   Damage damage_;
+  DamageCoupling coupling_;
 };
 
 }  // namespace shatter::constitutive

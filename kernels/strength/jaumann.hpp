@@ -7,8 +7,10 @@ namespace shatter::strength {
 
 // s: deviator (Voigt xx, yy, zz, xy, yz, xz), updated in place to the elastic trial s*.
 // de: strain increment (Voigt, tensor shear components), w: spin increment (xy, yz, xz).
-template <class T>
-inline void jaumann_trial(T (&s)[6], const T (&de)[6], const T (&w)[3], double G) {
+// G is a double, or a batch when the modulus differs lane by lane (incremental damage coupling,
+// kernels/constitutive/composed_kernel.hpp: (1 - D) G per particle).
+template <class T, class Mod = double>
+inline void jaumann_trial(T (&s)[6], const T (&de)[6], const T (&w)[3], const Mod& G) {
   const T& wxy = w[0];
   const T& wyz = w[1];
   const T& wxz = w[2];
@@ -21,7 +23,7 @@ inline void jaumann_trial(T (&s)[6], const T (&de)[6], const T (&w)[3], double G
   const T rxz = wxz * (s[2] - s[0]) + wxy * s[4] - wyz * s[3];
   // Eq. 37: 2G times the deviatoric strain increment.
   const T tr3 = (de[0] + de[1] + de[2]) * (1.0 / 3.0);
-  const double g2 = 2.0 * G;
+  const Mod g2 = 2.0 * G;
   s[0] = s[0] + rxx + g2 * (de[0] - tr3);
   s[1] = s[1] + ryy + g2 * (de[1] - tr3);
   s[2] = s[2] + rzz + g2 * (de[2] - tr3);

@@ -15,6 +15,10 @@ namespace shatter::strength {
 struct Lundborg {
   static constexpr FieldSet kFields{Field::plastic_strain, Field::heat};
   static constexpr bool kHasShear = true;
+  // Eq. 49 carries the damage (the Collins et al. 2004 damaged branch), so the returned deviator
+  // is already the damaged rock's; the composed kernel does not scale it by (1 - D) a second
+  // time (Eq. 14; kernels/constitutive/composed_kernel.hpp).
+  static constexpr bool kDamageInYield = true;
   ElasticConstants elastic{};
   double cohesion = 0.0;          // Y0 (Pa)
   double friction_intact = 0.0;   // mu_i
@@ -46,6 +50,11 @@ struct Lundborg {
     // Dry friction carries no tension, and is bounded by the intact strength (Eq. 48).
     const T yd = vmin(friction_damaged * vmax(p, T(0.0)), yi);
     return ((1.0 - damage) * yi + damage * yd) * melt_factor(energy);  // Eq. 49
+  }
+
+  template <class T>
+  T yield_strength(const T& p, const T& damage, const PlasticState<T>& st) const {
+    return yield(p, damage, st.energy);
   }
 
   template <class T>

@@ -19,6 +19,10 @@ namespace shatter::strength {
 struct ModifiedLundborg {
   static constexpr FieldSet kFields{Field::plastic_strain, Field::heat};
   static constexpr bool kHasShear = true;
+  // Eq. 4 carries the damage: (1 - D) weighs the intact branch and D the damaged friction
+  // branch, so the returned deviator is already the damaged rock's; the composed kernel does not
+  // scale it by (1 - D) a second time (Eq. 14; kernels/constitutive/composed_kernel.hpp).
+  static constexpr bool kDamageInYield = true;
   // Newton iterations of Eq. 5a/5b. g is convex and decreasing where Y is concave, so Newton from
   // dl = 0 converges monotonically and quadratically; 12 iterations reach round-off from any
   // start (tested), and the count is fixed so SIMD lanes and the scalar path agree exactly.
@@ -64,6 +68,14 @@ struct ModifiedLundborg {
     const T one_d = 1.0 - damage;
     y = (one_d * yi + damage * yd) * melt;
     h = (one_d * hi + damage * hd) * melt;
+  }
+
+  // Y of Eq. 4 at pressure p and damage D with the particle's plastic heat (melt factor).
+  template <class T>
+  T yield_strength(const T& p, const T& damage, const PlasticState<T>& st) const {
+    T y, h;
+    yield(p, damage, melt_factor(st.heat), y, h);
+    return y;
   }
 
   template <class T>

@@ -10,8 +10,8 @@
 namespace shatter::materials {
 
 MaterialPtr compose(const eos::Tillotson& eos, const AnyStrength& strength, const AnyDamage& damage,
-                    const std::string& name) {
-  return compose_with(eos, strength, damage, name);
+                    constitutive::DamageCoupling coupling, const std::string& name) {
+  return compose_with(eos, strength, damage, coupling, name);
 }
 
 }  // namespace shatter::materials

@@ -10,8 +10,9 @@
 namespace shatter::materials {
 
 MaterialPtr compose(const eos::TillotsonSimplified& eos, const AnyStrength& strength,
-                    const AnyDamage& damage, const std::string& name) {
-  return compose_with(eos, strength, damage, name);
+                    const AnyDamage& damage, constitutive::DamageCoupling coupling,
+                    const std::string& name) {
+  return compose_with(eos, strength, damage, coupling, name);
 }
 
 }  // namespace shatter::materials

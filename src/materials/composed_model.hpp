@@ -23,8 +23,9 @@ constitutive::ConstitutiveColumns gather_columns(ParticleStore& store, FieldSet 
 template <class Eos, class Strength, class Damage>
 class ComposedModel final : public MaterialModel {
  public:
-  ComposedModel(std::string name, Eos eos, Strength strength, Damage damage)
-      : name_(std::move(name)), kernel_(eos, strength, damage) {}
+  ComposedModel(std::string name, Eos eos, Strength strength, Damage damage,
+                constitutive::DamageCoupling coupling)
+      : name_(std::move(name)), kernel_(eos, strength, damage, coupling) {}
 
   std::string name() const override { return name_; }
 
@@ -55,27 +56,28 @@ class ComposedModel final : public MaterialModel {
 
 template <class Eos>
 MaterialPtr compose_with(const Eos& eos, const AnyStrength& strength, const AnyDamage& damage,
-                         const std::string& name) {
+                         constitutive::DamageCoupling coupling, const std::string& name) {
   return std::visit(
       [&](const auto& s, const auto& d) -> MaterialPtr {
         using S = std::decay_t<decltype(s)>;
         using D = std::decay_t<decltype(d)>;
-        return std::make_shared<const ComposedModel<Eos, S, D>>(name, eos, s, d);
+        return std::make_shared<const ComposedModel<Eos, S, D>>(name, eos, s, d, coupling);
       },
       strength, damage);
 }
 
 // One translation unit per EOS (compose_<eos>.cpp) keeps the instantiations apart.
 MaterialPtr compose(const eos::Tillotson&, const AnyStrength&, const AnyDamage&,
-                    const std::string&);
+                    constitutive::DamageCoupling, const std::string&);
 MaterialPtr compose(const eos::TillotsonSimplified&, const AnyStrength&, const AnyDamage&,
-                    const std::string&);
+                    constitutive::DamageCoupling, const std::string&);
 MaterialPtr compose(const eos::MieGruneisen&, const AnyStrength&, const AnyDamage&,
-                    const std::string&);
+                    constitutive::DamageCoupling, const std::string&);
 MaterialPtr compose(const eos::LinearPolynomial&, const AnyStrength&, const AnyDamage&,
-                    const std::string&);
+                    constitutive::DamageCoupling, const std::string&);
 MaterialPtr compose(const eos::LinearElastic&, const AnyStrength&, const AnyDamage&,
-                    const std::string&);
-MaterialPtr compose(const eos::IdealGas&, const AnyStrength&, const AnyDamage&, const std::string&);
+                    constitutive::DamageCoupling, const std::string&);
+MaterialPtr compose(const eos::IdealGas&, const AnyStrength&, const AnyDamage&,
+                    constitutive::DamageCoupling, const std::string&);
 
 }  // namespace shatter::materials

@@ -17,4 +17,15 @@ AnyDamage make_damage(const DamageSpec& spec, double young) {
   return d;
 }
 
+constitutive::DamageCoupling damage_coupling(const DamageSpec& spec) {
+  using constitutive::DamageCoupling;
+  if (spec.coupling.empty()) return constitutive::kDefaultCoupling;
+  for (auto c : {DamageCoupling::total, DamageCoupling::incremental, DamageCoupling::lagged}) {
+    if (spec.coupling == constitutive::coupling_name(c)) return c;
+  }
+  throw std::invalid_argument(
+      fmt::format("damage: unknown value '{}' of 'coupling' (known: total, incremental, lagged)",
+                  spec.coupling));
+}
+
 }  // namespace shatter::materials

@@ -14,7 +14,8 @@ MaterialPtr make_material(const MaterialSpec& spec, const DamageSpec& damage) {
   const materials::AnyStrength s = materials::make_strength(spec);
   const double young = std::visit([](const auto& m) { return m.elastic.young; }, s);
   const materials::AnyDamage d = materials::make_damage(damage, young);
-  return std::visit([&](const auto& e) { return materials::compose(e, s, d, spec.name); },
+  const auto coupling = materials::damage_coupling(damage);
+  return std::visit([&](const auto& e) { return materials::compose(e, s, d, coupling, spec.name); },
                     materials::make_eos(spec));
 }
 

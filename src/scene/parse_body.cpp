@@ -198,7 +198,11 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
     b.damage.model = d.string("model", "none");
     for (auto&& [k, v] : *damage) {
       const std::string key(k.str());
-      if (key != "model") b.damage.params[key] = d.number(key);
+      if (key == "coupling") {
+        b.damage.coupling = d.string(key);  // damage-stress coupling, validated by make_material
+      } else if (key != "model") {
+        b.damage.params[key] = d.number(key);
+      }
     }
     try {
       make_material(b.material, b.damage);  // validates the damage model and its parameters

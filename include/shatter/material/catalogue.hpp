@@ -33,6 +33,9 @@ struct MaterialSpec {
 struct DamageSpec {
   std::string model = "none";  // none | grady_kipp | brittle | fatigue
   std::map<std::string, double> params;
+  // How D reaches the stress: total | incremental | lagged; empty = the default (lagged).
+  // kernels/constitutive/composed_kernel.hpp (DamageCoupling) and docs/fracture.md.
+  std::string coupling{};
 };
 
 class MaterialCatalogue {
