@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
   CLI::App* run = app.add_subcommand("run", "run a scene");
   run->add_option("SCENE", scene_file, "scene file (TOML)")->required();
   run->add_flag("--overwrite", run_options.overwrite, "replace a previous run in the directory");
+  run->add_flag(
+      "--check", run_options.check,
+      "check the scene and set the run up (points, materials), then stop; writes nothing");
   add_run_flags(run);
 
   std::string checkpoint;
