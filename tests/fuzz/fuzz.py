@@ -591,6 +591,30 @@ def main():
                 tally.fail(f"corrupt checkpoint {k}", o)
         print(f"corrupt checkpoints: {a.corruptions} trials: {outcomes}, "
               f"{time.monotonic() - t0:.1f} s")
+        # Snapshots: the C++ reader (through `shatter fragments`) and tools/shatter_plot.py.
+        snap = os.path.join(work, "corrupt_snapshot.h5")
+        shutil.copy(snapshot, snap)
+        data = bytearray(open(snap, "rb").read())
+        at = rng.randrange(len(data) // 2, len(data) - 64)  # the data arrays lie after the header
+        for i in range(at, at + 64):
+            data[i] ^= 0xFF
+        open(snap, "wb").write(bytes(data))
+        r = shatter(binary, ["fragments", snap, "--prefix", os.path.join(work, "cs"), "--quiet"],
+                    cwd=work)
+        cxx = "refused" if r.code != 0 and "corrupt_snapshot.h5" in r.err else f"exit {r.code}"
+        py = "no h5py"
+        if shatter_plot is not None:
+            try:
+                shatter_plot.read_snapshot(snap)
+                py = "read"
+            except Exception:  # noqa: BLE001  (CorruptSnapshot, or HDF5's own error)
+                py = "refused"
+        print(f"corrupt snapshot (64 bytes at {at} of {len(data)}): C++ reader {cxx}, "
+              f"shatter_plot.py {py}")
+        # Bytes the readers never touch (padding, free space) may be flipped without effect;
+        # then both must read it, otherwise both must refuse it.
+        if cxx not in ("refused", "exit 0") or (py != "no h5py" and (py == "read") != (cxx == "exit 0")):
+            tally.fail("corrupt snapshot", f"C++ reader {cxx}, shatter_plot.py {py}: {r.err[-300:]}")
 
     if tally.table_only:
         print(f"refusals naming the key's table or another key ({len(tally.table_only)}), e.g.:")
