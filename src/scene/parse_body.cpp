@@ -229,7 +229,15 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
     b.damage.model = d.string("model", "none");
     for (auto&& [k, v] : *damage) {
       const std::string key(k.str());
-      if (key != "model") b.damage.params[key] = d.number(key);
+      if (key == "model") continue;
+      // Parameters are numbers; a string here is most likely a misspelt `model` (found by
+      // tests/fuzz: "mdoel: must be a number" did not say what was wrong).
+      if (v.is_string()) {
+        d.fail(key,
+               "is a string, so not a damage parameter (those are numbers); the model is "
+               "chosen with the key 'model'");
+      }
+      b.damage.params[key] = d.number(key);
     }
     try {
       make_material(b.material, b.damage);  // validates the damage model and its parameters

@@ -134,6 +134,14 @@ TEST(ReliabilityErrors, IceAndWeakRegolithAreAccepted) {
       test::parse(kTinyScene, {"body.target.material.young=9e9", "body.target.material.yield=10"}));
 }
 
+TEST(ReliabilityErrors, MisspeltDamageModelKeySuggestsModel) {
+  // Was: "body.target.damage.mdoel: must be a number (got a string)".
+  const std::string text = with("model = \"grady_kipp\"", "mdoel = \"grady_kipp\"");
+  const std::string msg = error_of(text);
+  expect_names(msg, line_of(text, "mdoel"), "body.target.damage.mdoel");
+  EXPECT_NE(msg.find("the key 'model'"), std::string::npos) << msg;
+}
+
 TEST(ReliabilityErrors, DtFloorRatioMustBeBelowOne) {
   const std::string text = with("end_time = 1.0e-6", "end_time = 1.0e-6\ndt_floor_ratio = 1.5");
   expect_names(error_of(text), line_of(text, "dt_floor_ratio"), "solver.dt_floor_ratio");
