@@ -373,8 +373,6 @@ def outputs(out_dir):
         for n in names:
             p = os.path.join(d, n)
             rel = os.path.relpath(p, out_dir)
-            if n.endswith(".tmp"):
-                continue
             with open(p, "rb") as f:
                 data = f.read()
             if rel == "timeseries.csv":  # the wall-clock column aside
