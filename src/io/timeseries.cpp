@@ -45,6 +45,13 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, double res
   }
   const std::string header = std::string(kHeader) + '\n';
   if (text.rfind(header, 0) != 0) {
+    if (header.rfind(text, 0) != 0) {
+      // Not this program's time series (another header): refuse rather than destroy its rows.
+      throw std::runtime_error(fmt::format(
+          "{} does not start with the time-series header of this shatter; move it away to "
+          "resume",
+          file.string()));
+    }
     // Missing, or torn before the header was complete: start it again.
     out_ = open_for_writing(file, std::ios::trunc);
     out_ << header;

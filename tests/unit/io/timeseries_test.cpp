@@ -111,6 +111,14 @@ TEST(TimeSeries, ResumeKeepsTheRowAtTheCheckpointTimeAndIsByteExact) {
   EXPECT_EQ(l[4].substr(0, 2), "3,");
 }
 
+TEST(TimeSeries, ResumeRefusesAFileWithAnotherHeader) {
+  // Rows of a file this program did not write are not silently thrown away.
+  ScratchDir dir;
+  std::ofstream(dir / "ts.csv") << "a,b,c\n1,2,3\n";
+  EXPECT_THROW(TimeSeriesWriter(dir / "ts.csv", 1.0), std::runtime_error);
+  EXPECT_EQ(lines(dir / "ts.csv").size(), 2u);
+}
+
 TEST(TimeSeries, MomentumIsTheMassWeightedVelocitySum) {
   ParticleStore s = sample_store(2, 1);
   Eigen::Vector3d expected = Eigen::Vector3d::Zero();
