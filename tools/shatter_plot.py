@@ -4,6 +4,7 @@ fragments.csv and scene.toml (written by `shatter run`)."""
 import csv
 import glob
 import os
+import zlib
 
 import h5py
 import numpy as np
@@ -20,10 +21,32 @@ def snapshots(run_dir):
     return sorted(glob.glob(os.path.join(run_dir, "snapshots", "snapshot_*.h5")))
 
 
+class CorruptSnapshot(ValueError):
+    """A dataset whose values do not match the CRC-32 stored with them."""
+
+
+def verified(dataset, path):
+    """The dataset's values, checked against its "crc32" attribute (zlib CRC-32 of the values as
+    stored, native byte order; docs/reliability.md). Snapshots that declare checksums (root
+    attribute "checksums") must carry one on every dataset; older ones have none."""
+    values = dataset[()]
+    stored = dataset.attrs.get("crc32")
+    if stored is None:
+        if "checksums" in dataset.file.attrs:
+            raise CorruptSnapshot(f"{path}: dataset '{dataset.name}' has no checksum")
+        return values
+    actual = zlib.crc32(values.tobytes())
+    if actual != int(stored):
+        raise CorruptSnapshot(f"{path}: dataset '{dataset.name}' is corrupt: checksum "
+                              f"{actual:08x}, stored {int(stored):08x}")
+    return values
+
+
 def read_snapshot(path):
-    """(time in s, dict column -> array, symmetry axis or -1)."""
+    """(time in s, dict column -> array, symmetry axis or -1). Raises CorruptSnapshot when a
+    column does not match its checksum."""
     with h5py.File(path, "r") as f:
-        cols = {k: f["particles"][k][()] for k in f["particles"]}
+        cols = {k: verified(f["particles"][k], path) for k in f["particles"]}
         axis = int(f.attrs.get("symmetry_axis", 0)) - 1
         return float(f.attrs["time"]), cols, axis
 

@@ -19,7 +19,8 @@ struct RunOptions {
   std::optional<std::filesystem::path> out;  // run directory (default: the scene's)
   int threads = 0;                           // 0 = all cores
   bool overwrite = false;                    // replace a previous run in the directory
-  std::vector<std::string> sets;             // --set key=value
+  bool check = false;  // run: check the scene and set the run up, then stop (nothing written)
+  std::vector<std::string> sets;  // --set key=value
 };
 
 int run_command(const std::filesystem::path& scene_file, const RunOptions& options);

@@ -44,8 +44,10 @@ int main(int argc, char** argv) {
 
   auto add_run_flags = [&](CLI::App* cmd) {
     cmd->add_option("--out", out_dir, "run directory (default: the scene's output.directory)");
-    cmd->add_option("--threads", run_options.threads, "worker threads (0 = all cores)")
-        ->check(CLI::NonNegativeNumber);
+    // Bounded: oneTBB crashes on an arena of a billion threads (found by tests/fuzz).
+    cmd->add_option("--threads", run_options.threads,
+                    "worker threads (0 = all cores, at most 4096)")
+        ->check(CLI::Range(0, 4096));
     cmd->add_option("--set", run_options.sets, "override a scene key: dotted.key=value")
         ->take_all();
     cmd->add_flag("--quiet", quiet, "only warnings and errors");
@@ -56,6 +58,9 @@ int main(int argc, char** argv) {
   CLI::App* run = app.add_subcommand("run", "run a scene");
   run->add_option("SCENE", scene_file, "scene file (TOML)")->required();
   run->add_flag("--overwrite", run_options.overwrite, "replace a previous run in the directory");
+  run->add_flag(
+      "--check", run_options.check,
+      "check the scene and set the run up (points, materials), then stop; writes nothing");
   add_run_flags(run);
 
   std::string checkpoint;

@@ -226,6 +226,12 @@ int material_command(const MaterialOptions& o) {
     }
     if (rho.empty()) rho.push_back(spec.get("rho0"));
     if (energy.empty()) energy.push_back(0.0);
+    // Every rho with every E: two 1e6-point sweeps would print 1e12 rows (hours).
+    constexpr double kMaxRows = 1e7;
+    if (static_cast<double>(rho.size()) * static_cast<double>(energy.size()) > kMaxRows) {
+      throw BadInput(fmt::format("{} densities x {} energies is more than {:.0e} states",
+                                 rho.size(), energy.size(), kMaxRows));
+    }
 
     // Hugoniot particle speeds: an explicit list, or n evenly spaced up to up_max.
     std::vector<double> up;
@@ -234,7 +240,9 @@ int material_command(const MaterialOptions& o) {
       if (!(*o.up_max > 0.0 && std::isfinite(*o.up_max))) {
         throw BadInput(fmt::format("--hugoniot {} m/s must be > 0", *o.up_max));
       }
-      if (o.points < 2) throw BadInput(fmt::format("--points {} must be >= 2", o.points));
+      if (o.points < 2 || o.points > 1000000) {
+        throw BadInput(fmt::format("--points {} must be from 2 to 1e6", o.points));
+      }
       for (int k = 0; k < o.points; ++k) up.push_back(*o.up_max * k / (o.points - 1));
     }
     for (double u : up) {

@@ -17,6 +17,8 @@ std::string format_time(double s) {
 
 std::string format_duration(double s) {
   if (!std::isfinite(s) || s < 0) return "?";
+  // Beyond this (11 years) the estimate is meaningless and would overflow the integer below.
+  if (s >= 3.6e8) return ">100000h";
   const auto t = static_cast<long long>(std::llround(s));
   if (t >= 3600) return fmt::format("{}h{:02d}m", t / 3600, (t % 3600) / 60);
   if (t >= 60) return fmt::format("{}m{:02d}s", t / 60, t % 60);

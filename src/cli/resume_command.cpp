@@ -43,17 +43,27 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
     spdlog::error("{}", e.what());
     return kBadInput;
   }
-  if (c.state.clock.time >= s.end_time) {
+  const bool at_end = c.state.clock.time == s.end_time;
+  if (c.state.clock.time > s.end_time) {
     spdlog::error(
-        "{} is at t = {} s, not before the end time {} s (raise it with --set "
+        "{} is at t = {} s, after the end time {} s (raise it with --set "
         "solver.end_time=...)",
         file.string(), c.state.clock.time, s.end_time);
     return kBadInput;
   }
   const std::filesystem::path out =
       options.out.value_or(file.has_parent_path() ? file.parent_path() : ".");
-  spdlog::info("resuming {} from {} at t = {} s, step {} ({} points)", s.name, file.string(),
-               c.state.clock.time, c.state.clock.step, c.particles.size());
+  if (at_end) {
+    // The run wrote its last checkpoint and may have died before what follows it (the fragment
+    // catalogue): do that part again, it is deterministic.
+    spdlog::info(
+        "{} is at the end time {} s: completing the run's last outputs (to continue, raise the "
+        "end time with --set solver.end_time=...)",
+        file.string(), s.end_time);
+  } else {
+    spdlog::info("resuming {} from {} at t = {} s, step {} ({} points)", s.name, file.string(),
+                 c.state.clock.time, c.state.clock.step, c.particles.size());
+  }
 
   std::unique_ptr<Solver> sim;
   try {
@@ -63,7 +73,11 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
     return kBadInput;
   }
   io::restore_columns(sim->particles(), c.particles);
-  sim->restore(c.state.clock, c.state.energy);
+  if (std::isnan(c.state.internal_next)) {
+    sim->restore(c.state.clock, c.state.energy);  // format-1 checkpoint: summed again
+  } else {
+    sim->restore(c.state.clock, c.state.energy, c.state.internal_next);
+  }
 
   RunSpec spec;
   spec.scene = &s;
@@ -71,6 +85,7 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
   spec.damaged = scene::damaged_groups(s);
   spec.resumed = true;
   spec.cursor = c.state.cursor;
+  spec.dt_first = c.state.dt_first;
   if (!options.sets.empty()) {
     // The output cadence may have changed: the next multiples of the cadences after now.
     const double t = c.state.clock.time;

@@ -69,7 +69,7 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
     return kBadInput;
   }
   const std::filesystem::path out = options.out.value_or(s.output.directory);
-  if (std::filesystem::exists(out) && holds_a_run(out) && !options.overwrite) {
+  if (!options.check && std::filesystem::exists(out) && holds_a_run(out) && !options.overwrite) {
     spdlog::error(
         "{} already holds a run; pass --overwrite to replace it or --out for another "
         "directory",
@@ -92,6 +92,11 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
   }
   spdlog::info("method {}", sim->method());
 
+  if (options.check) {
+    spdlog::info("scene {} is valid: {} points, first time step {:.6g} s (--check: nothing run)",
+                 scene_file.string(), s.particle_count(), sim->clock().dt);
+    return kOk;
+  }
   std::filesystem::create_directories(out);
   if (options.overwrite) clear_run(out);
   io::write_text_atomically(out / "scene.toml",

@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "fragments_report.hpp"
 #include "progress.hpp"
+#include "progress_guard.hpp"
 #include "shatter/io/columns.hpp"
 #include "shatter/io/snapshot.hpp"
 #include "shatter/io/timeseries.hpp"
@@ -33,6 +34,8 @@ class Runner {
         scene_(*spec.scene),
         series_(spec.out / "particles.xmf"),
         cursor_(spec.cursor),
+        guard_(spec.scene->dt_floor_ratio,
+               spec.resumed && spec.dt_first > 0.0 ? spec.dt_first : sim.clock().dt),
         start_wall_(Clock::now()),
         steps_at_last_(sim.clock().step),
         start_time_(sim.time()) {
@@ -54,6 +57,11 @@ class Runner {
         }
       }
       series_.rebuild(snaps, sim_.time());
+      // The checkpoint was written after the snapshot and the row of its own time, if any.
+      last_snapshot_time_ = sim_.time();
+      last_checkpoint_time_ = sim_.time();
+      last_row_step_ = sim_.clock().step;
+      rows_written_ = true;
       // The end time may have been changed on the command line.
       if (scene_.output.snapshot_every > 0) {
         cursor_.next_snapshot_time =
@@ -72,6 +80,7 @@ class Runner {
       write_row();
     }
     try {
+      guard_.check(sim_.clock(), sim_.energy(), sim_.particles());
       loop();
     } catch (const NumericalError& e) {
       return post_mortem(e);
@@ -90,11 +99,13 @@ class Runner {
       while (sim_.time() < target) {
         // Plain steps until the next one would pass the output time; advance_to then shortens
         // the last step to land on it.
+        const double before = sim_.time();
         if (sim_.time() + sim_.clock().dt >= target) {
           sim_.advance_to(target);
         } else {
           sim_.step();
         }
+        guard_.check(sim_.clock(), sim_.energy(), sim_.particles(), before);
         if (sim_.clock().step % static_cast<std::uint64_t>(scene_.output.timeseries_every) == 0) {
           write_row();
         }
@@ -116,7 +127,7 @@ class Runner {
     write_row();
     cursor_.next_checkpoint_time = kNever;
     if (last_checkpoint_time_ != sim_.time()) checkpoint();
-    timeseries_->flush();
+    timeseries_->sync();
     const double wall = seconds_since_start();
     spdlog::info("finished: t = {}, {} steps, {:.1f} s wall, energy error {:.3e}",
                  format_time(sim_.time()), sim_.clock().step, wall, sim_.energy().error());
@@ -151,15 +162,19 @@ class Runner {
   }
 
   void checkpoint() {
+    // The rows the checkpoint covers reach the disk before it is committed: a crash right after
+    // the commit must not lose them (a resume keeps the rows up to the checkpoint's time).
+    timeseries_->sync();
     io::RunState state;
     state.clock = sim_.clock();
     state.energy = sim_.energy();
+    state.internal_next = sim_.internal_next();
+    state.dt_first = guard_.dt_first();
     state.cursor = cursor_;
     state.scene_text = scene_.resolved;
     state.program_version = SHATTER_VERSION;
     io::write_checkpoint(checkpoint_path(spec_.out), sim_.particles(), state);
     last_checkpoint_time_ = sim_.time();
-    timeseries_->flush();
     spdlog::info("checkpoint at t = {} (step {})", format_time(sim_.time()), sim_.clock().step);
   }
 
@@ -191,8 +206,9 @@ class Runner {
     const double wall = seconds_since_start();
     const double done = sim_.time() - start_time_;
     const double eta = done > 0 ? (scene_.end_time - sim_.time()) / done * wall : kNever;
-    const double rate = static_cast<double>(sim_.clock().step - steps_at_last_) /
-                        std::chrono::duration<double>(now - last_progress_).count();
+    const double since = std::chrono::duration<double>(now - last_progress_).count();
+    const double rate =
+        since > 0 ? static_cast<double>(sim_.clock().step - steps_at_last_) / since : 0.0;
     spdlog::info(
         "t = {} / {} | step {} | dt {:.3g} s | {:.0f} steps/s | ETA {} | energy error "
         "{:.2e} | failed {:.1f}%",
@@ -214,7 +230,11 @@ class Runner {
     } catch (const std::exception& w) {
       spdlog::error("could not write the post-mortem snapshot: {}", w.what());
     }
-    timeseries_->flush();
+    try {
+      timeseries_->sync();
+    } catch (const std::exception& w) {
+      spdlog::error("{}", w.what());
+    }
     return kNumerical;
   }
 
@@ -229,6 +249,7 @@ class Runner {
   io::OutputCursor cursor_;
   io::ColumnSelection columns_;
   std::optional<io::TimeSeriesWriter> timeseries_;
+  ProgressGuard guard_;
   Clock::time_point start_wall_;
   Clock::time_point last_progress_ = Clock::now();
   std::uint64_t steps_at_last_;

@@ -4,6 +4,7 @@
 // numerical failure writes a post-mortem snapshot.
 
 #include <filesystem>
+#include <limits>
 #include <vector>
 
 #include "shatter/core/solver.hpp"
@@ -18,6 +19,8 @@ struct RunSpec {
   std::vector<bool> damaged;  // per group: counts in the failure ratio
   bool resumed = false;
   io::OutputCursor cursor;  // where the schedule stands (resume)
+  double dt_first = 0.0;    // first step's dt of the run (resume; 0 = this state's)
+  double internal_next = std::numeric_limits<double>::quiet_NaN();  // see io::RunState
 };
 
 // Runs to the scene's end time; returns the exit status.

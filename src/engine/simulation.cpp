@@ -273,6 +273,16 @@ void Simulation::restore(const Clock& clock, const EnergyBudget& energy) {
   });
 }
 
+void Simulation::restore(const Clock& clock, const EnergyBudget& energy, double internal_next) {
+  clock_ = clock;
+  energy_ = energy;
+  impl_->internal_next = internal_next;
+}
+
+double Simulation::internal_next() const {
+  return impl_->internal_next;
+}
+
 void Simulation::step() {
   // Eq. 34 sets dt from the state at t^n; a step in which the signal speed jumps (first contact
   // at hypervelocity: the shocked sound speed plus the viscosity's signal speed) runs at an

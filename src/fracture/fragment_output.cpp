@@ -97,12 +97,22 @@ void write_double_attribute(hid_t target, const char* name, double value) {
   H5Awrite(attr.id, H5T_NATIVE_DOUBLE, &value);
 }
 
+// Creation properties without HDF5's wall-clock modification times, so that the same fragments
+// give the same bytes (a resumed run's outputs are byte-identical, docs/reliability.md).
+H5Handle untimed(hid_t cls) {
+  const hid_t id = H5Pcreate(cls);
+  check_h5(id, "creation property list");
+  H5Pset_obj_track_times(id, 0);
+  return H5Handle{id, H5Pclose};  // a prvalue: no copy that would close the list twice
+}
+
 template <class V>
 void write_dataset(hid_t group, const char* name, hid_t type, const std::vector<V>& data,
                    const char* unit) {
   const hsize_t dims[1] = {data.size()};
   const H5Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
-  const H5Handle set{H5Dcreate2(group, name, type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+  const H5Handle dcpl = untimed(H5P_DATASET_CREATE);
+  const H5Handle set{H5Dcreate2(group, name, type, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT),
                      H5Dclose};
   check_h5(set.id, std::string("dataset ") + name);
   if (!data.empty() && H5Dwrite(set.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
@@ -131,8 +141,8 @@ void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::p
   const H5Handle h5{H5Fcreate(file.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                     H5Fclose};
   check_h5(h5.id, "cannot create " + file.string());
-  const H5Handle group{H5Gcreate2(h5.id, "fragments", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                       H5Gclose};
+  const H5Handle gcpl = untimed(H5P_GROUP_CREATE);
+  const H5Handle group{H5Gcreate2(h5.id, "fragments", H5P_DEFAULT, gcpl.id, H5P_DEFAULT), H5Gclose};
   check_h5(group.id, "group fragments");
   write_double_attribute(group.id, "total_mass_kg", cat.total_mass);
   write_double_attribute(group.id, "dust_mass_kg", cat.dust_mass);
@@ -149,7 +159,7 @@ void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::p
     write_dataset(group.id, c.name, H5T_NATIVE_DOUBLE, values, c.unit);
   }
   const auto cumulative = cumulative_mass_distribution(cat);
-  const H5Handle cgroup{H5Gcreate2(h5.id, "cumulative_mass", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+  const H5Handle cgroup{H5Gcreate2(h5.id, "cumulative_mass", H5P_DEFAULT, gcpl.id, H5P_DEFAULT),
                         H5Gclose};
   check_h5(cgroup.id, "group cumulative_mass");
   std::vector<double> m, cm;

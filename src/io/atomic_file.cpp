@@ -26,6 +26,14 @@ std::filesystem::path temporary_for(const std::filesystem::path& target) {
   return tmp;
 }
 
+void sync_file(const std::filesystem::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY);
+  if (fd < 0) throw std::runtime_error(fmt::format("cannot open {} to sync it", file.string()));
+  const int rc = ::fsync(fd);
+  ::close(fd);
+  if (rc != 0) throw std::runtime_error(fmt::format("cannot sync {} to disk", file.string()));
+}
+
 void commit(const std::filesystem::path& temporary, const std::filesystem::path& target) {
   sync_path(temporary, O_RDONLY);
   std::error_code ec;

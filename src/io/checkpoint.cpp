@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -14,7 +15,15 @@ namespace shatter::io {
 namespace {
 
 constexpr std::string_view kFormat = "shatter checkpoint";
-constexpr std::uint64_t kFormatVersion = 1;
+constexpr std::uint64_t kFormatVersion = 2;  // 2: checksums, internal_next, dt_first
+
+// The energy budget's members, written and read by one table so the two cannot drift apart.
+constexpr std::pair<const char*, double EnergyBudget::*> kEnergyTerms[] = {
+    {"kinetic", &EnergyBudget::kinetic},     {"internal", &EnergyBudget::internal},
+    {"potential", &EnergyBudget::potential}, {"boundary_work", &EnergyBudget::boundary_work},
+    {"outflow", &EnergyBudget::outflow},     {"initial", &EnergyBudget::initial},
+    {"scale", &EnergyBudget::scale},
+};
 
 // Doubles are stored as native IEEE values, so a round trip is exact (restarts are bitwise).
 void write_clock(hid_t file, const Clock& c) {
@@ -23,6 +32,26 @@ void write_clock(hid_t file, const Clock& c) {
   h5::set_attr(g.get(), "dt", c.dt);
   h5::set_attr(g.get(), "dt_prev", c.dt_prev);
   h5::set_attr(g.get(), "step", c.step);
+}
+
+// The attribute values the checksums of the datasets do not cover, as bytes in a fixed order.
+std::vector<unsigned char> state_bytes(const RunState& s) {
+  std::vector<unsigned char> out;
+  auto put = [&out](const auto& v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&v);
+    out.insert(out.end(), p, p + sizeof(v));
+  };
+  put(s.clock.time);
+  put(s.clock.dt);
+  put(s.clock.dt_prev);
+  put(s.clock.step);
+  for (const auto& [name, member] : kEnergyTerms) put(s.energy.*member);
+  put(s.internal_next);
+  put(s.dt_first);
+  put(s.cursor.next_snapshot);
+  put(s.cursor.next_snapshot_time);
+  put(s.cursor.next_checkpoint_time);
+  return out;
 }
 
 Clock read_clock(hid_t file) {
@@ -34,14 +63,6 @@ Clock read_clock(hid_t file) {
   c.step = h5::get_attr_u64(g.get(), "step");
   return c;
 }
-
-// The energy budget's members, written and read by one table so the two cannot drift apart.
-constexpr std::pair<const char*, double EnergyBudget::*> kEnergyTerms[] = {
-    {"kinetic", &EnergyBudget::kinetic},     {"internal", &EnergyBudget::internal},
-    {"potential", &EnergyBudget::potential}, {"boundary_work", &EnergyBudget::boundary_work},
-    {"outflow", &EnergyBudget::outflow},     {"initial", &EnergyBudget::initial},
-    {"scale", &EnergyBudget::scale},
-};
 
 void write_energy(hid_t file, const EnergyBudget& e) {
   h5::Handle g = h5::create_group(file, "energy");
@@ -95,11 +116,22 @@ void write_checkpoint(const std::filesystem::path& file, const ParticleStore& st
     h5::set_attr(f.get(), "format", kFormat);
     h5::set_attr(f.get(), "format_version", kFormatVersion);
     h5::set_attr(f.get(), "program_version", state.program_version);
+    h5::set_attr(f.get(), "checksums",
+                 std::string_view("crc32 (zlib) of each dataset's values in its attribute "
+                                  "crc32; state_crc32 covers clock, energy and output"));
     // A dataset, not an attribute: attributes are limited to 64 KiB in the default format.
     h5::write_text(f.get(), "scene", state.scene_text);
     write_clock(f.get(), state.clock);
     write_energy(f.get(), state.energy);
     write_cursor(f.get(), state.cursor);
+    {
+      h5::Handle g = h5::open_group(f.get(), "clock");
+      h5::set_attr(g.get(), "dt_first", state.dt_first);
+      h5::Handle e = h5::open_group(f.get(), "energy");
+      h5::set_attr(e.get(), "internal_next", state.internal_next);
+    }
+    const auto bytes = state_bytes(state);
+    h5::set_attr(f.get(), "state_crc32", h5::checksum(bytes.data(), bytes.size()));
     if (progress) progress("state");
     write_particles(f.get(), store, all_columns(store), progress);
     if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
@@ -120,17 +152,33 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
     throw std::runtime_error(fmt::format("{} is not a shatter checkpoint", file.string()));
   }
   const auto version = h5::get_attr_u64(f.get(), "format_version");
-  if (version != kFormatVersion) {
-    throw std::runtime_error(fmt::format("{}: checkpoint format {} (this shatter reads {})",
+  if (version != kFormatVersion && version != 1) {
+    throw std::runtime_error(fmt::format("{}: checkpoint format {} (this shatter reads 1 and {})",
                                          file.string(), version, kFormatVersion));
   }
+  // Format 1 predates checksums: read as before, nothing to verify.
+  const auto verify = version >= 2 ? h5::Verify::required : h5::Verify::if_present;
   Checkpoint c;
   c.state.program_version = h5::get_attr_string(f.get(), "program_version");
-  c.state.scene_text = h5::read_text(f.get(), "scene");
+  c.state.scene_text = h5::read_text(f.get(), "scene", verify);
   c.state.clock = read_clock(f.get());
   c.state.energy = read_energy(f.get());
   c.state.cursor = read_cursor(f.get());
-  c.particles = read_particles(f.get());
+  if (version >= 2) {
+    h5::Handle g = h5::open_group(f.get(), "clock");
+    c.state.dt_first = h5::get_attr_double(g.get(), "dt_first");
+    h5::Handle e = h5::open_group(f.get(), "energy");
+    c.state.internal_next = h5::get_attr_double(e.get(), "internal_next");
+    const auto bytes = state_bytes(c.state);
+    const auto stored = h5::get_attr_u64(f.get(), "state_crc32");
+    const auto actual = h5::checksum(bytes.data(), bytes.size());
+    if (stored != actual) {
+      throw std::runtime_error(fmt::format(
+          "{}: the clock/energy/output attributes are corrupt: checksum {:08x}, stored {:08x}",
+          file.string(), actual, stored));
+    }
+  }
+  c.particles = read_particles(f.get(), verify);
   return c;
 }
 

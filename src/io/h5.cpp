@@ -1,6 +1,9 @@
 #include "io/h5.hpp"
 
+#include <zlib.h>
+
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -26,12 +29,71 @@ Handle open_dataset(hid_t parent, const std::string& name) {
           H5Dclose};
 }
 
+// Creation properties without modification times: HDF5 stamps every object header with the wall
+// clock by default, so two runs that computed the same numbers would write different bytes.
+// Without them a resumed run's files are byte-identical to an uninterrupted run's.
+Handle untimed(hid_t cls) {
+  Handle p{H5Pcreate(cls), H5Pclose};
+  if (!p.valid() || H5Pset_obj_track_times(p.get(), 0) < 0) {
+    throw std::runtime_error("HDF5: cannot make a creation property list");
+  }
+  return p;
+}
+
+// The checksum attribute of a dataset: CRC-32 (zlib, ISO 3309) of the values as stored in
+// memory (native little-endian IEEE doubles / int64, or the text bytes).
+constexpr const char* kChecksumAttr = "crc32";
+
+void set_checksum(hid_t set, hid_t where, const std::string& name, const void* data,
+                  std::size_t bytes) {
+  const std::uint64_t crc = checksum(data, bytes);
+  Handle space{check(H5Screate(H5S_SCALAR), where, "create dataspace for checksum of", name),
+               H5Sclose};
+  Handle a{check(H5Acreate2(set, kChecksumAttr, H5T_NATIVE_UINT64, space.get(), H5P_DEFAULT,
+                            H5P_DEFAULT),
+                 where, "create checksum of", name),
+           H5Aclose};
+  check(H5Awrite(a.get(), H5T_NATIVE_UINT64, &crc), where, "write checksum of", name);
+}
+
+// Full path of an object ("/particles/x"), for messages.
+std::string object_path(hid_t obj, const std::string& fallback) {
+  const ssize_t len = H5Iget_name(obj, nullptr, 0);
+  if (len <= 0) return fallback;
+  std::string path(static_cast<std::size_t>(len), '\0');
+  H5Iget_name(obj, path.data(), path.size() + 1);
+  return path;
+}
+
+void verify_checksum(hid_t set, hid_t where, const std::string& short_name, const void* data,
+                     std::size_t bytes, Verify verify) {
+  const std::string name = object_path(set, short_name);
+  if (H5Aexists(set, kChecksumAttr) <= 0) {
+    if (verify == Verify::required) {
+      throw std::runtime_error(
+          fmt::format("{}: dataset '{}' has no checksum (corrupt file?)", file_name(where), name));
+    }
+    return;
+  }
+  Handle a{check(H5Aopen(set, kChecksumAttr, H5P_DEFAULT), where, "open checksum of", name),
+           H5Aclose};
+  std::uint64_t stored = 0;
+  check(H5Aread(a.get(), H5T_NATIVE_UINT64, &stored), where, "read checksum of", name);
+  const std::uint64_t actual = checksum(data, bytes);
+  if (stored != actual) {
+    throw std::runtime_error(
+        fmt::format("{}: dataset '{}' is corrupt: checksum {:08x}, stored {:08x}", file_name(where),
+                    name, actual, stored));
+  }
+}
+
 template <class T>
 void write_1d(hid_t parent, const std::string& name, hid_t type, std::span<const T> data) {
   const hsize_t n = data.size();
   Handle space{check(H5Screate_simple(1, &n, nullptr), parent, "create dataspace for", name),
                H5Sclose};
-  Handle set{check(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
+  Handle dcpl = untimed(H5P_DATASET_CREATE);
+  Handle set{check(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(),
                               H5P_DEFAULT),
                    parent, "create dataset", name),
              H5Dclose};
@@ -40,10 +102,11 @@ void write_1d(hid_t parent, const std::string& name, hid_t type, std::span<const
     check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), parent, "write",
           name);
   }
+  set_checksum(set.get(), parent, name, data.data(), data.size_bytes());
 }
 
 template <class T>
-std::vector<T> read_1d(hid_t parent, const std::string& name, hid_t type) {
+std::vector<T> read_1d(hid_t parent, const std::string& name, hid_t type, Verify verify) {
   Handle set = open_dataset(parent, name);
   Handle space{check(H5Dget_space(set.get()), parent, "get dataspace of", name), H5Sclose};
   if (H5Sget_simple_extent_ndims(space.get()) != 1) fail(parent, "read 1-d dataset", name);
@@ -54,6 +117,7 @@ std::vector<T> read_1d(hid_t parent, const std::string& name, hid_t type) {
     check(H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), parent, "read",
           name);
   }
+  verify_checksum(set.get(), parent, name, out.data(), out.size() * sizeof(T), verify);
   return out;
 }
 
@@ -69,6 +133,19 @@ Handle open_attr(hid_t obj, const std::string& name) {
 }
 
 }  // namespace
+
+std::uint64_t checksum(const void* data, std::size_t bytes) {
+  // zlib's length argument is 32-bit: feed large buffers in pieces.
+  uLong crc = crc32(0L, Z_NULL, 0);
+  const auto* p = static_cast<const Bytef*>(data);
+  while (bytes > 0) {
+    const auto n = static_cast<uInt>(std::min<std::size_t>(bytes, 1u << 30));
+    crc = crc32(crc, p, n);
+    p += n;
+    bytes -= n;
+  }
+  return static_cast<std::uint64_t>(crc);
+}
 
 Handle& Handle::operator=(Handle&& o) noexcept {
   if (this != &o) {
@@ -113,7 +190,8 @@ Handle open_file(const std::filesystem::path& path) {
 }
 
 Handle create_group(hid_t parent, const std::string& name) {
-  return {check(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), parent,
+  Handle gcpl = untimed(H5P_GROUP_CREATE);
+  return {check(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), parent,
                 "create group", name),
           H5Gclose};
 }
@@ -151,12 +229,12 @@ void write_ints(hid_t parent, const std::string& name, std::span<const std::int6
   write_1d(parent, name, H5T_NATIVE_INT64, data);
 }
 
-std::vector<double> read_doubles(hid_t parent, const std::string& name) {
-  return read_1d<double>(parent, name, H5T_NATIVE_DOUBLE);
+std::vector<double> read_doubles(hid_t parent, const std::string& name, Verify verify) {
+  return read_1d<double>(parent, name, H5T_NATIVE_DOUBLE, verify);
 }
 
-std::vector<std::int64_t> read_ints(hid_t parent, const std::string& name) {
-  return read_1d<std::int64_t>(parent, name, H5T_NATIVE_INT64);
+std::vector<std::int64_t> read_ints(hid_t parent, const std::string& name, Verify verify) {
+  return read_1d<std::int64_t>(parent, name, H5T_NATIVE_INT64, verify);
 }
 
 bool is_float_dataset(hid_t parent, const std::string& name) {
@@ -229,17 +307,19 @@ void write_text(hid_t parent, const std::string& name, std::string_view text) {
   check(H5Tset_size(type.get(), std::max<std::size_t>(text.size(), 1)), parent, "size", name);
   check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), parent, "pad string", name);
   Handle space{check(H5Screate(H5S_SCALAR), parent, "create dataspace for", name), H5Sclose};
+  Handle dcpl = untimed(H5P_DATASET_CREATE);
   Handle set{check(H5Dcreate2(parent, name.c_str(), type.get(), space.get(), H5P_DEFAULT,
-                              H5P_DEFAULT, H5P_DEFAULT),
+                              dcpl.get(), H5P_DEFAULT),
                    parent, "create dataset", name),
              H5Dclose};
   std::string buffer(text);
   if (buffer.empty()) buffer.push_back('\0');
   check(H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), parent,
         "write", name);
+  set_checksum(set.get(), parent, name, buffer.data(), buffer.size());
 }
 
-std::string read_text(hid_t parent, const std::string& name) {
+std::string read_text(hid_t parent, const std::string& name, Verify verify) {
   Handle set = open_dataset(parent, name);
   Handle type{check(H5Dget_type(set.get()), parent, "get type of", name), H5Tclose};
   if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
@@ -248,6 +328,7 @@ std::string read_text(hid_t parent, const std::string& name) {
   std::string out(H5Tget_size(type.get()), '\0');
   check(H5Dread(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), parent, "read",
         name);
+  verify_checksum(set.get(), parent, name, out.data(), out.size(), verify);
   while (!out.empty() && out.back() == '\0') out.pop_back();
   return out;
 }

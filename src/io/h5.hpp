@@ -55,10 +55,18 @@ Handle open_group(hid_t parent, const std::string& name);
 bool exists(hid_t parent, const std::string& name);
 std::vector<std::string> children(hid_t group);
 
+// Integrity: every dataset written here carries a "crc32" attribute, the CRC-32 (zlib) of its
+// values as stored. A read recomputes it and throws naming the file and the dataset when it
+// differs; a dataset without one is accepted (files from before checksums) unless `required`.
+enum class Verify { if_present, required };
+std::uint64_t checksum(const void* data, std::size_t bytes);
+
 void write_doubles(hid_t parent, const std::string& name, std::span<const double> data);
 void write_ints(hid_t parent, const std::string& name, std::span<const std::int64_t> data);
-std::vector<double> read_doubles(hid_t parent, const std::string& name);
-std::vector<std::int64_t> read_ints(hid_t parent, const std::string& name);
+std::vector<double> read_doubles(hid_t parent, const std::string& name,
+                                 Verify verify = Verify::if_present);
+std::vector<std::int64_t> read_ints(hid_t parent, const std::string& name,
+                                    Verify verify = Verify::if_present);
 // Kind of a dataset's values: true for floating point, false for integer.
 bool is_float_dataset(hid_t parent, const std::string& name);
 std::size_t dataset_size(hid_t parent, const std::string& name);
@@ -73,7 +81,7 @@ bool has_attr(hid_t obj, const std::string& name);
 
 // Text stored as a scalar fixed-length string dataset (no 64 KiB attribute limit).
 void write_text(hid_t parent, const std::string& name, std::string_view text);
-std::string read_text(hid_t parent, const std::string& name);
+std::string read_text(hid_t parent, const std::string& name, Verify verify = Verify::if_present);
 
 // Name of the file an object lives in (for messages).
 std::string file_name(hid_t obj);

@@ -61,7 +61,7 @@ ColumnSelection columns_in_file(hid_t file) {
   return s;
 }
 
-ParticleStore read_particles(hid_t file) {
+ParticleStore read_particles(hid_t file, h5::Verify verify) {
   const std::string where = h5::file_name(file);
   const std::size_t n = particles_in_file(file);
   const ColumnSelection columns = columns_in_file(file);
@@ -71,9 +71,9 @@ ParticleStore read_particles(hid_t file) {
   for (IField f : columns.ifields) store.require(f);
 
   h5::Handle groups = h5::open_group(file, "groups");
-  const auto begin = h5::read_ints(groups.get(), "begin");
-  const auto end = h5::read_ints(groups.get(), "end");
-  const auto material = h5::read_ints(groups.get(), "material");
+  const auto begin = h5::read_ints(groups.get(), "begin", verify);
+  const auto end = h5::read_ints(groups.get(), "end", verify);
+  const auto material = h5::read_ints(groups.get(), "material", verify);
   if (begin.size() != end.size() || begin.size() != material.size()) {
     throw std::runtime_error(fmt::format("{}: inconsistent /groups tables", where));
   }
@@ -94,7 +94,7 @@ ParticleStore read_particles(hid_t file) {
 
   h5::Handle particles = h5::open_group(file, "particles");
   for (Field f : columns.fields) {
-    const auto data = h5::read_doubles(particles.get(), std::string(name_of(f)));
+    const auto data = h5::read_doubles(particles.get(), std::string(name_of(f)), verify);
     if (data.size() != n) {
       throw std::runtime_error(fmt::format("{}: column '{}' has {} values, expected {}", where,
                                            name_of(f), data.size(), n));
@@ -102,7 +102,7 @@ ParticleStore read_particles(hid_t file) {
     std::copy(data.begin(), data.end(), store.col(f).begin());
   }
   for (IField f : columns.ifields) {
-    const auto data = h5::read_ints(particles.get(), std::string(name_of(f)));
+    const auto data = h5::read_ints(particles.get(), std::string(name_of(f)), verify);
     if (data.size() != n) {
       throw std::runtime_error(fmt::format("{}: column '{}' has {} values, expected {}", where,
                                            name_of(f), data.size(), n));

@@ -41,6 +41,8 @@ void write_snapshot(const std::filesystem::path& file, const ParticleStore& stor
     // Stored shifted by one so that "none" (-1) fits an unsigned attribute.
     h5::set_attr(f.get(), "symmetry_axis", static_cast<std::uint64_t>(header.symmetry_axis + 1));
     h5::set_attr(f.get(), "units", std::string_view("SI; see the units attribute of each column"));
+    h5::set_attr(f.get(), "checksums",
+                 std::string_view("crc32 (zlib) of each dataset's values in its attribute crc32"));
     write_particles(f.get(), store, columns);
     if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
       throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
@@ -54,7 +56,9 @@ Snapshot read_snapshot(const std::filesystem::path& file) {
   h5::Handle f = h5::open_file(file);
   Snapshot s;
   s.header = read_header(f.get(), file);
-  s.particles = read_particles(f.get());
+  // A snapshot that declares checksums must carry one on every dataset; older ones have none.
+  s.particles = read_particles(
+      f.get(), h5::has_attr(f.get(), "checksums") ? h5::Verify::required : h5::Verify::if_present);
   return s;
 }
 

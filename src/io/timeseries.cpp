@@ -1,10 +1,15 @@
 #include "shatter/io/timeseries.hpp"
 
+#include <algorithm>
+#include <charconv>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
+
+#include "shatter/io/atomic_file.hpp"
 
 namespace shatter::io {
 namespace {
@@ -26,32 +31,72 @@ std::string_view timeseries_header() {
 }
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file)
-    : out_(open_for_writing(file, std::ios::trunc)) {
+    : file_(file), out_(open_for_writing(file, std::ios::trunc)) {
   out_ << kHeader << '\n';
 }
 
-TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, double resume_after) {
-  std::vector<std::string> keep;
-  if (std::ifstream in(file); in) {
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-      const auto a = line.find(',');
-      if (a == std::string::npos) break;
-      const auto b = line.find(',', a + 1);
-      double t = 0.0;
-      try {
-        t = std::stod(line.substr(a + 1, b - a - 1));
-      } catch (const std::exception&) {
-        break;  // a torn last line from a crash: drop it and what follows
-      }
-      if (t > resume_after) break;
-      keep.push_back(line);
+TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, double resume_after)
+    : file_(file) {
+  std::string text;
+  if (std::ifstream in(file, std::ios::binary); in) {
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  const std::string header = std::string(kHeader) + '\n';
+  if (text.rfind(header, 0) != 0) {
+    if (header.rfind(text, 0) != 0) {
+      // Not this program's time series (another header): refuse rather than destroy its rows.
+      throw std::runtime_error(fmt::format(
+          "{} does not start with the time-series header of this shatter; move it away to "
+          "resume",
+          file.string()));
+    }
+    // Missing, or torn before the header was complete: start it again.
+    out_ = open_for_writing(file, std::ios::trunc);
+    out_ << header;
+    sync();
+    return;
+  }
+  // Keep complete rows (newline-terminated, every column, a number for the time) up to and
+  // including `resume_after`; cut the file after the last one. A row the dead run wrote after the
+  // checkpoint, or tore while writing, goes; the resumed run writes it again, byte for byte.
+  const auto columns = static_cast<std::size_t>(std::count(kHeader.begin(), kHeader.end(), ','));
+  std::size_t keep = header.size();
+  for (std::size_t pos = keep; pos < text.size();) {
+    const auto nl = text.find('\n', pos);
+    if (nl == std::string::npos) break;
+    const std::string_view line(text.data() + pos, nl - pos);
+    if (static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) != columns) break;
+    const auto a = line.find(',');
+    const auto b = line.find(',', a + 1);
+    double t = 0.0;
+    const auto [end, ec] = std::from_chars(line.data() + a + 1, line.data() + b, t);
+    if (ec != std::errc() || end != line.data() + b || t > resume_after) break;
+    keep = nl + 1;
+    pos = nl + 1;
+  }
+  if (keep < text.size()) {
+    // Cut in place (one truncate), never rewritten: a crash here loses no kept row.
+    std::error_code ec;
+    std::filesystem::resize_file(file, keep, ec);
+    if (ec) {
+      throw std::runtime_error(
+          fmt::format("cannot truncate {} for the resume: {}", file.string(), ec.message()));
     }
   }
-  out_ = open_for_writing(file, std::ios::trunc);
-  out_ << kHeader << '\n';
-  for (const auto& l : keep) out_ << l << '\n';
+  out_ = open_for_writing(file, std::ios::app);
+  sync();
+}
+
+void TimeSeriesWriter::flush() {
+  out_.flush();
+  if (!out_) throw std::runtime_error(fmt::format("error writing {}", file_.string()));
+}
+
+void TimeSeriesWriter::sync() {
+  flush();
+  sync_file(file_);
 }
 
 void TimeSeriesWriter::write(const TimeSeriesRow& r) {

@@ -140,6 +140,52 @@ void check_strength(const MaterialSpec& spec, const Checker& c) {
   }
 }
 
+// Physically meaningful ranges (docs/reliability.md): a value outside is a unit mistake or a
+// typo, and at the extremes the models overflow. Generous on purpose: gases and vapour to the
+// densest metals, very weak regolith (no lower bound on strength but the sign checks above) to
+// diamond. Keys of models not listed here are checked by sign only.
+struct Range {
+  std::string_view key;
+  double lo, hi;
+  std::string_view unit, reason;
+};
+constexpr std::string_view kModulusReason =
+    "up to 8x diamond's Young's modulus, 1.2e12 Pa, the stiffest known solid";
+constexpr std::string_view kStrengthReason = "up to 10x the ideal strength of diamond, ~1e11 Pa";
+constexpr std::string_view kEnergyReason =
+    "up to 20x the largest published Tillotson energy, basalt's E0 = 4.87e8 J/kg";
+constexpr Range kRanges[] = {
+    {"rho0", 1e-6, 1e5, "kg/m^3",
+     "from a thin gas to 4x osmium, the densest element (22 590 kg/m^3)"},
+    {"young", 0.0, 1e13, "Pa", kModulusReason},
+    {"shear_modulus", 0.0, 1e13, "Pa", kModulusReason},
+    {"bulk_modulus", 0.0, 1e13, "Pa", kModulusReason},
+    {"A", 0.0, 1e13, "Pa", kModulusReason},
+    {"B", 0.0, 1e13, "Pa", kModulusReason},
+    {"C1", 0.0, 1e13, "Pa", kModulusReason},
+    {"poisson", -1.0, 0.5, "", "thermodynamic stability of an isotropic solid"},
+    {"yield", 0.0, 1e12, "Pa", kStrengthReason},
+    {"cohesion", 0.0, 1e12, "Pa", kStrengthReason},
+    {"strength_limit", 0.0, 1e12, "Pa", kStrengthReason},
+    {"plastic_modulus", 0.0, 1e13, "Pa", kModulusReason},
+    {"E0", 0.0, 1e10, "J/kg", kEnergyReason},
+    {"Eiv", 0.0, 1e10, "J/kg", kEnergyReason},
+    {"Ecv", 0.0, 1e10, "J/kg", kEnergyReason},
+    {"c0", 0.0, 1e5, "m/s", "5x the fastest sound speed in a solid (diamond, 18 km/s)"},
+};
+
+void check_ranges(const MaterialSpec& spec, const Checker& c) {
+  for (const Range& r : kRanges) {
+    if (!c.has(r.key)) continue;
+    const double v = c.value(r.key);
+    if (!(v >= r.lo && v <= r.hi)) {
+      fail(spec, r.key,
+           fmt::format("= {} {} is outside the range [{:g}, {:g}] {} ({})", v, r.unit, r.lo, r.hi,
+                       r.unit, r.reason));
+    }
+  }
+}
+
 }  // namespace
 
 void validate(const MaterialSpec& spec) {
@@ -160,6 +206,7 @@ void validate(const MaterialSpec& spec) {
   const Checker c(spec);
   check_eos(spec, c);
   check_strength(spec, c);
+  check_ranges(spec, c);
 }
 
 double MaterialSpec::get(std::string_view key) const {

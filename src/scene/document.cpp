@@ -22,9 +22,23 @@ toml::table parse_text(std::string_view text, const std::string& source) {
   }
 }
 
-std::string read_file(const std::filesystem::path& file) {
+std::string read_file(const std::filesystem::path& file, const std::string& where,
+                      const std::string& key) {
+  // Checked before opening: an ifstream opens a directory without complaint (the scene would
+  // then be empty, "solver: is required but missing"), and a FIFO would block forever.
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) {
+    throw SceneError(where, key, fmt::format("no such file: {}", file.string()));
+  }
+  if (std::filesystem::is_directory(status)) {
+    throw SceneError(where, key, fmt::format("{} is a directory, not a scene file", file.string()));
+  }
+  if (!std::filesystem::is_regular_file(status)) {
+    throw SceneError(where, key, fmt::format("{} is not a regular file", file.string()));
+  }
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw SceneError(file.string(), "", "cannot open the scene file");
+  if (!in) throw SceneError(where, key, fmt::format("cannot read {}", file.string()));
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
@@ -53,12 +67,9 @@ toml::table resolve_extends(toml::table doc, const std::filesystem::path& base_d
                      fmt::format("more than {} nested extends (a cycle?)", kMaxExtends));
   }
   const std::filesystem::path parent = base_dir / name->get();
-  if (!std::filesystem::exists(parent)) {
-    throw SceneError(location(ext->source()), "extends",
-                     fmt::format("no such scene file: {}", parent.string()));
-  }
-  toml::table base = resolve_extends(parse_text(read_file(parent), parent.string()),
-                                     parent.parent_path(), depth + 1);
+  toml::table base = resolve_extends(
+      parse_text(read_file(parent, location(ext->source()), "extends"), parent.string()),
+      parent.parent_path(), depth + 1);
   doc.erase("extends");
   merge(base, std::move(doc));
   return base;
@@ -67,7 +78,7 @@ toml::table resolve_extends(toml::table doc, const std::filesystem::path& base_d
 }  // namespace
 
 toml::table load_document(const std::filesystem::path& file) {
-  return parse_document(read_file(file), file.string(), file.parent_path());
+  return parse_document(read_file(file, file.string(), ""), file.string(), file.parent_path());
 }
 
 toml::table parse_document(std::string_view text, const std::string& source,

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "scene/parts.hpp"
+#include "scene/ranges.hpp"
 
 namespace shatter::scene {
 namespace {
@@ -35,6 +36,7 @@ std::optional<ImpactInput> read_impact(Reader& root, const Scene& scene) {
   in.where_target = r.where("target");
   if (in.projectile == in.target) r.fail("target", "must differ from impact.projectile");
   in.speed = r.positive("speed", r.number("speed"));
+  r.within("speed", in.speed, 0.0, ranges::kMaxSpeed, "m/s", ranges::kSpeedReason);
   in.angle_deg = r.number("angle");
   if (!(in.angle_deg >= 0.0 && in.angle_deg < 90.0)) {
     r.fail("angle", fmt::format("must be in [0, 90) degrees from the surface normal (got {})",
@@ -49,6 +51,7 @@ std::optional<ImpactInput> read_impact(Reader& root, const Scene& scene) {
   in.offset.normalize();
   // One cell of clearance: the two bodies do not share grid nodes before contact.
   in.gap = r.non_negative("gap", r.number("gap", scene.solver.cell_size));
+  r.within("gap", in.gap, 0.0, ranges::kMaxLength, "m", ranges::kLengthReason);
   const int a = scene.symmetry_axis;
   if (a >= 0) {
     // The half model is exact only if the symmetry plane is the impact plane.

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "scene/parts.hpp"
+#include "scene/ranges.hpp"
 #include "shatter/io/suggest.hpp"
 
 namespace shatter::scene {
@@ -23,28 +24,40 @@ std::vector<std::string> shape_keys(const std::string& kind) {
 
 // A primitive from `r` (a body table or one element of a union's parts). The centre may be left
 // out when the impact helper places the body; it is then set later.
+// A position (|coordinate| bounded) and a size (a length in range) of a shape.
+Vec3 position(Reader& r, std::string_view key) {
+  const Vec3 v = r.vec3(key);
+  r.within(key, v.cwiseAbs().maxCoeff(), 0.0, ranges::kMaxCoordinate, "m (|coordinate|)",
+           ranges::kCoordinateReason);
+  return v;
+}
+double size(Reader& r, std::string_view key, double v) {
+  r.positive(key, v);
+  return r.within(key, v, ranges::kMinLength, ranges::kMaxLength, "m", ranges::kLengthReason);
+}
+
 Primitive read_primitive(Reader& r, const std::string& kind, bool centre_optional) {
   auto centre = [&] {
     if (centre_optional) return Vec3::Zero().eval();
-    return r.vec3("centre");
+    return position(r, "centre");
   };
   if (kind == "sphere") {
     Sphere s;
     s.centre = centre();
-    s.radius = r.positive("radius", r.number("radius"));
+    s.radius = size(r, "radius", r.number("radius"));
     return s;
   }
   if (kind == "ellipsoid") {
     Ellipsoid e;
     e.centre = centre();
     e.semi_axes = r.vec3("semi_axes");
-    for (int a = 0; a < 3; ++a) r.positive("semi_axes", e.semi_axes[a]);
+    for (int a = 0; a < 3; ++a) size(r, "semi_axes", e.semi_axes[a]);
     return e;
   }
   if (kind == "box") {
     Box b;
-    b.lo = r.vec3("lo");
-    b.hi = r.vec3("hi");
+    b.lo = position(r, "lo");
+    b.hi = position(r, "hi");
     if (!(b.lo.array() < b.hi.array()).all()) r.fail("hi", "must exceed lo on every axis");
     return b;
   }
@@ -53,8 +66,8 @@ Primitive read_primitive(Reader& r, const std::string& kind, bool centre_optiona
   const Vec3 axis = r.vec3("axis", Vec3::UnitZ());
   if (!(axis.norm() > 0.0)) r.fail("axis", "must not be the zero vector");
   c.axis = axis.normalized();
-  c.radius = r.positive("radius", r.number("radius"));
-  c.length = r.positive("length", r.number("length"));
+  c.radius = size(r, "radius", r.number("radius"));
+  c.length = size(r, "length", r.number("length"));
   return c;
 }
 
@@ -161,17 +174,35 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   b.shape = read_shape(r, placed_by_impact);
   b.material = read_material(r, catalogue);
   if (!placed_by_impact) b.velocity = r.vec3("velocity", Vec3::Zero());
+  r.within("velocity", b.velocity.norm(), 0.0, ranges::kMaxSpeed, "m/s (speed)",
+           ranges::kSpeedReason);
   b.energy = r.non_negative("energy", r.number("energy", 0.0));
+  r.within("energy", b.energy, 0.0, ranges::kMaxSpecificEnergy, "J/kg", ranges::kEnergyReason);
 
   if (r.has("spacing") && r.has("points_per_cell")) {
     r.fail("points_per_cell", "give spacing or points_per_cell, not both");
   }
   if (r.has("spacing")) {
-    b.spacing = r.positive("spacing", r.number("spacing"));
+    b.spacing = size(r, "spacing", r.number("spacing"));
   } else {
     const auto ppc = r.integer("points_per_cell", 2);
     if (ppc < 1) r.fail("points_per_cell", fmt::format("must be >= 1 (got {})", ppc));
     b.spacing = scene.solver.cell_size / static_cast<double>(ppc);
+  }
+  {
+    // Refused before the lattice is filled: a spacing far below the body's size would take hours
+    // and all memory to find out.
+    const double volume =
+        b.shape.exact_volume().value_or((b.shape.bounds().hi - b.shape.bounds().lo).prod());
+    const double points = volume / (b.spacing * b.spacing * b.spacing);
+    if (points > ranges::kMaxPoints) {
+      r.fail(r.has("spacing")           ? "spacing"
+             : r.has("points_per_cell") ? "points_per_cell"
+                                        : "shape",
+             fmt::format("gives about {:.3g} points for this body (spacing {} m, volume {:.3g} "
+                         "m^3); the limit is {:.0e} (~0.5 kB each)",
+                         points, b.spacing, volume, ranges::kMaxPoints));
+    }
   }
 
   // Mass given: the density changes, the volume stays (MPM paper Table 2, projectile mass).
@@ -198,11 +229,19 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
     b.damage.model = d.string("model", "none");
     for (auto&& [k, v] : *damage) {
       const std::string key(k.str());
+      if (key == "model") continue;
       if (key == "coupling") {
         b.damage.coupling = d.string(key);  // damage-stress coupling, validated by make_material
-      } else if (key != "model") {
-        b.damage.params[key] = d.number(key);
+        continue;
       }
+      // Parameters are numbers; a string here is most likely a misspelt `model` (found by
+      // tests/fuzz: "mdoel: must be a number" did not say what was wrong).
+      if (v.is_string()) {
+        d.fail(key,
+               "is a string, so not a damage parameter (those are numbers); the model is "
+               "chosen with the key 'model' (and its damage-stress coupling with 'coupling')");
+      }
+      b.damage.params[key] = d.number(key);
     }
     try {
       make_material(b.material, b.damage);  // validates the damage model and its parameters

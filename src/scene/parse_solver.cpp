@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "scene/parts.hpp"
+#include "scene/ranges.hpp"
 
 namespace shatter::scene {
 namespace {
@@ -32,7 +33,7 @@ void read_solver(Reader& root, Scene& scene) {
   Reader r(*t, "solver");
   r.allow({"method", "shape", "transfer", "cell_size", "cfl", "end_time", "dt_max", "dt_min",
            "gravity", "symmetry_plane", "reorder_interval", "viscosity", "sph", "contact",
-           "friction", "contact_pair"});
+           "friction", "contact_pair", "dt_floor_ratio"});
   r.reject_unknown();
 
   SolverConfig& c = scene.solver;
@@ -44,15 +45,27 @@ void read_solver(Reader& root, Scene& scene) {
   const std::string transfer = r.choice("transfer", "flip", kTransfers);
   c.transfer = transfer == "flip" ? TransferKind::flip : TransferKind::apic;
   c.cell_size = r.positive("cell_size", r.number("cell_size"));
+  r.within("cell_size", c.cell_size, ranges::kMinLength, ranges::kMaxLength, "m",
+           ranges::kLengthReason);
   c.cfl = r.number("cfl", 0.3);
   // Eq. 34 is stable up to CFL = 1.
   if (!(c.cfl > 0.0 && c.cfl <= 1.0))
     r.fail("cfl", fmt::format("must be in (0, 1] (got {})", c.cfl));
   scene.end_time = r.positive("end_time", r.number("end_time"));
+  r.within("end_time", scene.end_time, 0.0, ranges::kMaxTime, "s", ranges::kTimeReason);
   if (auto v = r.optional_number("dt_max")) c.dt_max = r.positive("dt_max", *v);
   c.dt_min = r.non_negative("dt_min", r.number("dt_min", 0.0));
   if (c.dt_min > 0.0 && c.dt_min >= c.dt_max) r.fail("dt_min", "must be smaller than dt_max");
+  // Progress guard (docs/reliability.md). The stability scenes' smallest steps are 0.22 to 0.97
+  // of the first (docs/stability.md), so 1e-4 stops only a collapse.
+  scene.dt_floor_ratio = r.number("dt_floor_ratio", 1e-4);
+  if (!(scene.dt_floor_ratio >= 0.0 && scene.dt_floor_ratio < 1.0)) {
+    r.fail("dt_floor_ratio",
+           fmt::format("must be in [0, 1) (got {}; 0 disables the check)", scene.dt_floor_ratio));
+  }
   c.gravity = r.vec3("gravity", Vec3::Zero());
+  r.within("gravity", c.gravity.norm(), 0.0, ranges::kMaxGravity, "m/s^2 (magnitude)",
+           ranges::kGravityReason);
   const std::string plane = r.choice("symmetry_plane", "none", kPlanes);
   scene.symmetry_axis = plane == "none" ? -1 : plane[0] - 'x';
   const auto reorder = r.integer("reorder_interval", 25);
@@ -153,6 +166,10 @@ void read_domain(Reader& root, Scene& scene) {
   if (r.has("lo") != r.has("hi")) r.fail(r.has("lo") ? "hi" : "lo", "give both lo and hi");
   if (r.has("lo")) {
     // Faces must lie on grid planes; snap outward so a cell-size sweep needs no domain edits.
+    for (const char* k : {"lo", "hi"}) {
+      r.within(k, r.vec3(k).cwiseAbs().maxCoeff(), 0.0, ranges::kMaxCoordinate, "m (|coordinate|)",
+               ranges::kCoordinateReason);
+    }
     d.lo = (r.vec3("lo") / h).array().floor().matrix() * h;
     d.hi = (r.vec3("hi") / h).array().ceil().matrix() * h;
     for (int a = 0; a < 3; ++a) {

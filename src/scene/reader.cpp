@@ -224,3 +224,16 @@ double Reader::non_negative(std::string_view key, double v) const {
 }
 
 }  // namespace shatter::scene
+
+namespace shatter::scene {
+
+double Reader::within(std::string_view key, double v, double lo, double hi, std::string_view unit,
+                      std::string_view reason) const {
+  if (!(v >= lo && v <= hi)) {
+    fail(key, fmt::format("= {} {} is outside the range [{:g}, {:g}] {} ({})", v, unit, lo, hi,
+                          unit, reason));
+  }
+  return v;
+}
+
+}  // namespace shatter::scene

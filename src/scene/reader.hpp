@@ -56,6 +56,9 @@ class Reader {
   // Range checks on a value already read; they fail at the key's line.
   double positive(std::string_view key, double v) const;
   double non_negative(std::string_view key, double v) const;
+  // v in [lo, hi] (src/scene/ranges.hpp), else an error stating the range, its unit and reason.
+  double within(std::string_view key, double v, double lo, double hi, std::string_view unit,
+                std::string_view reason) const;
 
   [[noreturn]] void fail(std::string_view key, const std::string& message) const;
   [[noreturn]] void fail_table(const std::string& message) const;

@@ -1,10 +1,15 @@
 #include "shatter/scene/scene.hpp"
 
+#include <algorithm>
+#include <tuple>
+
 #include <fmt/format.h>
 
 #include "scene/document.hpp"
 #include "scene/parts.hpp"
+#include "scene/ranges.hpp"
 #include "shatter/io/columns.hpp"
+#include "shatter/io/suggest.hpp"
 
 namespace shatter::scene {
 namespace {
@@ -49,6 +54,14 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   MaterialCatalogue catalogue = MaterialCatalogue::builtin();
   if (auto file = root.optional_string("catalogue")) {
     const auto path = std::filesystem::absolute(base_dir / *file);
+    // Named here: the catalogue loader would report a missing file as a TOML syntax error.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+      root.fail("catalogue", fmt::format("{}: {}", path.string(),
+                                         std::filesystem::exists(path, ec)
+                                             ? "is not a regular file (a directory?)"
+                                             : "no such catalogue file"));
+    }
     try {
       catalogue = MaterialCatalogue::load(path);
     } catch (const std::exception& e) {
@@ -66,6 +79,21 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   toml::table* bodies = root.subtable("body");
   if (bodies == nullptr || bodies->empty()) {
     root.fail("body", "at least one body is required ([body.NAME] with shape and material)");
+  }
+  if (impact) {
+    // Checked before the bodies are read: a misspelt projectile would otherwise be read as an
+    // ordinary body and reported as missing its centre.
+    std::vector<std::string> names;
+    for (auto&& [key, node] : *bodies) names.emplace_back(key.str());
+    for (const auto& [role, name, where] :
+         {std::tuple{"projectile", impact->projectile, impact->where_projectile},
+          std::tuple{"target", impact->target, impact->where_target}}) {
+      if (std::find(names.begin(), names.end(), name) == names.end()) {
+        throw SceneError(where, std::string("impact.") + role,
+                         fmt::format("no body '{}'{} (bodies: {})", name,
+                                     io::did_you_mean(name, names), fmt::join(names, ", ")));
+      }
+    }
   }
   for (auto&& [key, node] : *bodies) {
     const std::string name(key.str());
@@ -131,6 +159,15 @@ void read_output(Reader& root, Scene& scene) {
   o.snapshot_every =
       r.non_negative("snapshot_every", r.number("snapshot_every", scene.end_time / 10));
   o.checkpoint_every = r.non_negative("checkpoint_every", r.number("checkpoint_every", 0.0));
+  for (const char* k : {"snapshot_every", "checkpoint_every"}) {
+    const double every =
+        std::string_view(k) == "snapshot_every" ? o.snapshot_every : o.checkpoint_every;
+    if (every > 0.0 && scene.end_time / every > ranges::kMaxOutputs) {
+      r.fail(k, fmt::format("= {} s writes {:.3g} files before end_time = {} s; the limit is "
+                            "{:.0e} (a cadence mistake)",
+                            every, scene.end_time / every, scene.end_time, ranges::kMaxOutputs));
+    }
+  }
   o.timeseries_every = r.integer("timeseries_every", 10);
   if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");
   o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));

@@ -477,6 +477,10 @@ void SphSolver::restore(const Clock& clock, const EnergyBudget& energy) {
   impl_->arena.execute([&] { impl_->search_and_forces(false); });
 }
 
+void SphSolver::restore(const Clock& clock, const EnergyBudget& energy, double /*internal_next*/) {
+  restore(clock, energy);
+}
+
 void SphSolver::step() {
   impl_->arena.execute([&] {
     Impl& I = *impl_;

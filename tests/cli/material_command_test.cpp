@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -34,9 +35,12 @@ std::string slurp(const std::filesystem::path& p) {
 }
 
 Result shatter_material(const std::vector<std::string>& args) {
+  // ctest runs each test as its own process, several at once: a file name shared between them
+  // let one test read another's output (seen once in CI-like runs), so the pid is in the name.
   const auto dir = std::filesystem::path(::testing::TempDir());
-  const auto out = dir / "shatter_material_stdout.txt";
-  const auto err = dir / "shatter_material_stderr.txt";
+  const std::string tag = std::to_string(::getpid());
+  const auto out = dir / ("shatter_material_stdout_" + tag + ".txt");
+  const auto err = dir / ("shatter_material_stderr_" + tag + ".txt");
   std::string cmd = std::string("'") + SHATTER_BINARY + "' material";
   for (const auto& a : args) cmd += " '" + a + "'";
   cmd += " >'" + out.string() + "' 2>'" + err.string() + "'";

@@ -74,6 +74,13 @@ class Solver {
   // derived state (neighbour lists, accelerations) is rebuilt from the columns, so a resumed run
   // continues bit for bit.
   virtual void restore(const Clock& clock, const EnergyBudget& energy) = 0;
+  // Same, with the internal energy the next reported row starts from, as it was summed when the
+  // checkpoint was written (a sum over the restored store may differ in the last bit), so the
+  // first row after a resume is bitwise the uninterrupted run's (docs/reliability.md).
+  virtual void restore(const Clock& clock, const EnergyBudget& energy, double internal_next) = 0;
+  // The internal energy (sum m E) the next step's report starts from; checkpointed with the
+  // clock and the energy accounts.
+  virtual double internal_next() const = 0;
 };
 
 }  // namespace shatter

@@ -55,6 +55,12 @@ class Simulation final : public Solver {
 
   // Restores a checkpointed clock and energy accounts (particles come with the store).
   void restore(const Clock& clock, const EnergyBudget& energy) override;
+  // Same, with the internal energy at t^{n+1} the next step reports (internal_next()) as it was
+  // summed when the checkpoint was written, so the first reported row after a resume is bitwise
+  // the uninterrupted run's (a sum over the restored store may differ in the last bit).
+  void restore(const Clock& clock, const EnergyBudget& energy, double internal_next) override;
+  // Sum m E over the particles at t^{n+1}, reported as EnergyBudget::internal by the next step.
+  double internal_next() const override;
 
  private:
   struct Impl;

@@ -14,6 +14,9 @@ std::filesystem::path temporary_for(const std::filesystem::path& target);
 // Flushes `temporary` to disk and renames it to `target` (then flushes the directory entry).
 void commit(const std::filesystem::path& temporary, const std::filesystem::path& target);
 
+// fsync of a file's data (after its stream was flushed); throws when the file cannot be opened.
+void sync_file(const std::filesystem::path& file);
+
 // Writes `text` to `target` through a temporary file.
 void write_text_atomically(const std::filesystem::path& target, std::string_view text);
 

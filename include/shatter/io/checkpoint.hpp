@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -26,6 +27,11 @@ struct OutputCursor {
 struct RunState {
   Clock clock;
   EnergyBudget energy;
+  // Simulation::internal_next() when written; NaN when read from a format-1 checkpoint (resume
+  // then sums it from the particles).
+  double internal_next = std::numeric_limits<double>::quiet_NaN();
+  // dt of the run's first step (the progress guard's dt floor is relative to it); 0 = unknown.
+  double dt_first = 0.0;
   OutputCursor cursor;
   std::string scene_text;  // the resolved scene (TOML) the run was started from
   std::string program_version;
@@ -43,7 +49,11 @@ using CheckpointProgress = std::function<void(std::string_view dataset)>;
 void write_checkpoint(const std::filesystem::path& file, const ParticleStore& store,
                       const RunState& state, const CheckpointProgress& progress = {});
 
-// Throws std::runtime_error naming the file when it is missing, truncated or not a checkpoint.
+// Integrity (format 2): every dataset carries a CRC-32 of its values and the root attribute
+// "state_crc32" covers the clock, energy and output-schedule attributes. Throws
+// std::runtime_error naming the file when it is missing, truncated or not a checkpoint, and the
+// file and the dataset when a checksum does not match. Format-1 checkpoints (no checksums) are
+// still read.
 Checkpoint read_checkpoint(const std::filesystem::path& file);
 
 // Copies every column of `saved` into `live` (same particles, same order). The Simulation

@@ -29,16 +29,21 @@ std::string_view timeseries_header();
 
 class TimeSeriesWriter {
  public:
-  // Starts a new file. With `resume_after`, keeps the rows of an existing file up to and
-  // including that time (rows written after the checkpoint by a run that then died are dropped,
-  // the resumed run writes them again).
+  // Starts a new file. With `resume_after`, keeps the complete rows of an existing file up to
+  // and including that time and cuts the file after them (rows written after the checkpoint by a
+  // run that then died, or a row torn by the crash, are dropped; the resumed run writes them
+  // again), then appends.
   explicit TimeSeriesWriter(const std::filesystem::path& file);
   TimeSeriesWriter(const std::filesystem::path& file, double resume_after);
 
   void write(const TimeSeriesRow& row);
-  void flush() { out_.flush(); }
+  // Throws when a write failed (disk full, ...).
+  void flush();
+  // flush() and fsync: the rows are on disk. Called before a checkpoint covering them commits.
+  void sync();
 
  private:
+  std::filesystem::path file_;
   std::ofstream out_;
 };
 

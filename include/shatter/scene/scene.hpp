@@ -7,8 +7,8 @@
 //   extends = "base.toml"      start from another scene and override it
 //   catalogue = "file.toml"    material catalogue (default: the one shipped, data/materials.toml)
 //   [solver]                   method, shape, cell_size, cfl, end_time, dt_max, dt_min, gravity,
-//                              symmetry_plane, reorder_interval, contact, friction,
-//                              [[solver.contact_pair]], [solver.viscosity],
+//                              symmetry_plane, reorder_interval, dt_floor_ratio, contact,
+//                              friction, [[solver.contact_pair]], [solver.viscosity],
 //                              [solver.sph] (h_factor, alpha, beta)
 //   [domain]                   lo, hi, boundary, x_lo, x_hi, y_lo, y_hi, z_lo, z_hi
 //   [body.NAME]                shape + its keys, material, velocity, spacing, points_per_cell,
@@ -88,7 +88,10 @@ struct Scene {
   SolverConfig solver;
   std::string method = "mpm";  // solver.method: "mpm" (default) or "sph"
   sph::SphConfig sph;          // [solver.sph], read when method = "sph"
-  double end_time = 0.0;   // s
+  double end_time = 0.0;       // s
+  // The run stops (exit 3) when the stable step falls below this times the first step's
+  // (solver.dt_floor_ratio; 0 = never): a collapse that would take as many times the steps.
+  double dt_floor_ratio = 1e-4;
   int symmetry_axis = -1;  // 0, 1, 2 = symmetry plane x = 0, y = 0, z = 0 (positive half kept)
   std::vector<BodySpec> bodies;
   std::vector<ContactPairSpec> contact_pairs;  // already in solver.contact.pairs as ids

@@ -57,6 +57,11 @@ class SphSolver final : public Solver {
   int threads() const override { return threads_; }
   const std::vector<StageTiming>& stage_timings() const override;
   void restore(const Clock& clock, const EnergyBudget& energy) override;
+  // SPH sums every energy of the report at the end of the step that reports it (energy() in
+  // solver.cpp), so the checkpointed accounts are all it needs: internal_next is the internal
+  // energy already in `energy` and is not used.
+  void restore(const Clock& clock, const EnergyBudget& energy, double internal_next) override;
+  double internal_next() const override { return energy_.internal; }
 
   // The neighbour lists at the current positions, and the smoothing lengths they used.
   const NeighbourSearch& neighbours() const;

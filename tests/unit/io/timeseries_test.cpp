@@ -76,6 +76,49 @@ TEST(TimeSeries, ResumeDropsRowsWrittenAfterTheCheckpoint) {
   EXPECT_EQ(l[4].substr(0, 2), "3,");
 }
 
+TEST(TimeSeries, ResumeDropsRowsThatAreNotComplete) {
+  // A crash can tear a row anywhere: within the time (which may then still parse, "0." for
+  // "0.5"), or after all columns but before the newline. Neither may survive a resume.
+  for (const std::string& torn :
+       std::vector<std::string>{"3,0.", "3,3e-06,1e-06,1,2", std::string(64, 'x')}) {
+    ScratchDir dir;
+    {
+      TimeSeriesWriter w(dir / "ts.csv");
+      for (int k = 0; k < 3; ++k) w.write(row(static_cast<std::uint64_t>(k), 1e-6 * k));
+    }
+    std::ofstream(dir / "ts.csv", std::ios::app) << torn;
+    { TimeSeriesWriter w(dir / "ts.csv", 5e-6); }
+    const auto l = lines(dir / "ts.csv");
+    ASSERT_EQ(l.size(), 4u) << torn;  // header and steps 0 1 2
+    EXPECT_EQ(l[3].substr(0, 2), "2,");
+  }
+}
+
+TEST(TimeSeries, ResumeKeepsTheRowAtTheCheckpointTimeAndIsByteExact) {
+  ScratchDir dir;
+  {
+    TimeSeriesWriter w(dir / "ts.csv");
+    for (int k = 0; k < 4; ++k) w.write(row(static_cast<std::uint64_t>(k), 1e-6 * k / 3.0));
+  }
+  {
+    TimeSeriesWriter w(dir / "ts.csv", 1e-6 * 2 / 3.0);  // the exact double of row 2
+    w.write(row(3, 1e-6));
+    w.sync();
+  }
+  const auto l = lines(dir / "ts.csv");
+  ASSERT_EQ(l.size(), 5u);
+  EXPECT_EQ(l[3].substr(0, 2), "2,");
+  EXPECT_EQ(l[4].substr(0, 2), "3,");
+}
+
+TEST(TimeSeries, ResumeRefusesAFileWithAnotherHeader) {
+  // Rows of a file this program did not write are not silently thrown away.
+  ScratchDir dir;
+  std::ofstream(dir / "ts.csv") << "a,b,c\n1,2,3\n";
+  EXPECT_THROW(TimeSeriesWriter(dir / "ts.csv", 1.0), std::runtime_error);
+  EXPECT_EQ(lines(dir / "ts.csv").size(), 2u);
+}
+
 TEST(TimeSeries, MomentumIsTheMassWeightedVelocitySum) {
   ParticleStore s = sample_store(2, 1);
   Eigen::Vector3d expected = Eigen::Vector3d::Zero();
