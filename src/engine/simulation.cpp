@@ -14,6 +14,7 @@
 #include "engine/contact.hpp"
 #include "engine/kernel_inputs.hpp"
 #include "engine/stage_graph.hpp"
+#include "shatter/core/solver_inputs.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 
 namespace shatter {
@@ -129,35 +130,14 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
     throw std::invalid_argument(
         fmt::format("solver: cfl must be in (0, 1] (Eq. 34), got {}", config_.cfl));
   }
-  for (const Field f :
-       {Field::x, Field::y, Field::z, Field::vx, Field::vy, Field::vz, Field::mass, Field::rho}) {
-    if (!particles_.has(f)) {
-      throw std::invalid_argument(fmt::format("particles lack the '{}' column", name_of(f)));
-    }
-  }
-  if (particles_.size() == 0) throw std::invalid_argument("the scene has no particles");
+  check_solver_inputs(
+      particles_, materials_,
+      {Field::x, Field::y, Field::z, Field::vx, Field::vy, Field::vz, Field::mass, Field::rho});
   if (config_.transfer == TransferKind::apic && config_.shape == ShapeKind::linear) {
     // C_p = sum v_I grad N_I^T jumps when a point crosses a cell face with linear shapes; the
     // colliding-sphere test diverges within 50 steps. Jiang et al. (2015) use smooth kernels.
     throw std::invalid_argument(
         "solver: transfer 'apic' needs a smooth shape function (ugimp or bspline2), not 'linear'");
-  }
-  for (const Group& g : particles_.groups()) {
-    if (g.material < 0 || static_cast<std::size_t>(g.material) >= materials_.size() ||
-        !materials_[static_cast<std::size_t>(g.material)]) {
-      throw std::invalid_argument(fmt::format("particle group uses material {} but {} are defined",
-                                              g.material, materials_.size()));
-    }
-  }
-  {
-    const auto m = particles_.col(Field::mass), r = particles_.col(Field::rho);
-    for (std::size_t p = 0; p < particles_.size(); ++p) {
-      if (!(m[p] > 0.0 && std::isfinite(m[p])) || !(r[p] > 0.0 && std::isfinite(r[p]))) {
-        throw std::invalid_argument(fmt::format(
-            "particle {} has non-physical mass {} kg or density {} kg/m^3 (both must be > 0)", p,
-            m[p], r[p]));
-      }
-    }
   }
   if (particles_.has(Field::size0)) {
     // A zero size would make the uGIMP weights 0/0; such particles get the cubic-lattice size.

@@ -13,6 +13,7 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
+#include "shatter/core/solver_inputs.hpp"
 #include "sph/gather.hpp"
 
 namespace shatter::sph {
@@ -416,30 +417,9 @@ SphSolver::SphSolver(SolverConfig config, SphConfig sph, ParticleStore particles
   if (config_.body_force) {
     throw std::invalid_argument("solver.method = \"sph\" does not take a body force yet");
   }
-  for (const Field f :
-       {Field::x, Field::y, Field::z, Field::vx, Field::vy, Field::vz, Field::mass, Field::rho}) {
-    if (!particles_.has(f)) {
-      throw std::invalid_argument(fmt::format("particles lack the '{}' column", name_of(f)));
-    }
-  }
-  if (particles_.size() == 0) throw std::invalid_argument("the scene has no particles");
-  for (const Group& g : particles_.groups()) {
-    if (g.material < 0 || static_cast<std::size_t>(g.material) >= materials_.size() ||
-        !materials_[static_cast<std::size_t>(g.material)]) {
-      throw std::invalid_argument(fmt::format("particle group uses material {} but {} are defined",
-                                              g.material, materials_.size()));
-    }
-  }
-  {
-    const auto m = particles_.col(Field::mass), r = particles_.col(Field::rho);
-    for (std::size_t p = 0; p < particles_.size(); ++p) {
-      if (!(m[p] > 0.0 && std::isfinite(m[p])) || !(r[p] > 0.0 && std::isfinite(r[p]))) {
-        throw std::invalid_argument(fmt::format(
-            "particle {} has non-physical mass {} kg or density {} kg/m^3 (both must be > 0)", p,
-            m[p], r[p]));
-      }
-    }
-  }
+  check_solver_inputs(
+      particles_, materials_,
+      {Field::x, Field::y, Field::z, Field::vx, Field::vy, Field::vz, Field::mass, Field::rho});
   particles_.require(kSphFields);
   particles_.require(IField::id);
   for (const auto& m : materials_) particles_.require(m->fields());
