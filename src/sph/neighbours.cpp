@@ -40,14 +40,24 @@ std::size_t NeighbourSearch::bytes() const {
 
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
                             std::size_t n) {
+  build(x, y, z, h, n, n);
+}
+
+void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
+                            std::size_t n, std::size_t n_lists) {
   if (n >= std::numeric_limits<std::uint32_t>::max()) {
     throw std::invalid_argument(fmt::format("neighbour search: {} points exceed 2^32 - 1", n));
   }
+  if (n_lists > n) {
+    throw std::invalid_argument(
+        fmt::format("neighbour search: lists for {} of only {} points", n_lists, n));
+  }
   n_ = n;
+  lists_ = n_lists;
   cell_.resize(n);
   sorted_.resize(n);
   keyed_.resize(n);
-  offsets_.resize(n + 1);
+  offsets_.resize(n_lists + 1);
   offsets_[0] = 0;
   cell_key_.clear();
   cell_start_.clear();
@@ -147,20 +157,22 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
                         buf.clear();
                         for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
                           const std::size_t i = sorted_[s];
+                          if (i >= n_lists) continue;  // a point that is only a neighbour
                           const std::size_t before = buf.size();
                           visit(i, [&](std::uint32_t j) { buf.push_back(j); });
                           offsets_[i + 1] = buf.size() - before;
                         }
                       }
                     });
-  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
-  if (list_.size() < offsets_[n]) list_.resize(offsets_[n]);
+  for (std::size_t i = 0; i < n_lists; ++i) offsets_[i + 1] += offsets_[i];
+  if (list_.size() < offsets_[n_lists]) list_.resize(offsets_[n_lists]);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t c = r.begin(); c < r.end(); ++c) {
                         const std::uint32_t* from = chunk_list_[c].data();
                         for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
                           const std::size_t i = sorted_[s];
+                          if (i >= n_lists) continue;
                           const std::size_t k = offsets_[i + 1] - offsets_[i];
                           std::copy(from, from + k, list_.data() + offsets_[i]);
                           from += k;

@@ -62,11 +62,34 @@ enum Stage : std::size_t { kKick, kRates, kMaterial, kDrift, kSearch, kForces, k
 
 }  // namespace
 
+// A mirror particle (ghost) of the boundaries: the image of real particle `src` across the planes
+// of the axes whose side is not 0 (-1: the lower face, +1: the upper face; several for an edge
+// or corner image). It carries the source's mass, density, h and sound speed, its position and
+// velocity reflected, and its stress with the shear components that have one reflected index
+// negated: the state of the mirror-image body, so that a half model gathers exactly the sums of
+// the symmetric full model (Libersky et al. 1993, J. Comput. Phys. 109, 67, Sec. 3.3, for SPH
+// solids; Monaghan 1994 uses the same images for free-slip walls).
+struct Mirror {
+  std::uint32_t src;
+  std::array<std::int8_t, 3> side;
+};
+
 struct SphSolver::Impl {
   SphSolver& s;
   tbb::task_arena arena;
   NeighbourSearch search;
+  // Real particles 0 .. n-1, then mirror particles n .. n+g-1 (h, h_mid, ax, ay, az, a_stress
+  // and the e* copies have n + g entries; heat, mu and kick_heat n).
   AlignedVector<double> h, h_mid, ax, ay, az, heat, mu, kick_heat;
+  // Boundaries (DESIGN.md "The SPH step", boundaries): faces that reflect (symmetry, slip) and
+  // faces that let particles out (outflow).
+  std::array<bool, 6> mirror_face{}, outflow_face{};
+  bool mirrors = false, outflows = false;
+  std::vector<Mirror> ghosts;
+  std::vector<std::uint8_t> leaving;
+  // With mirror particles the gather passes read these copies of the columns (real particles,
+  // then their images); without, they read the columns themselves.
+  AlignedVector<double> ex, ey, ez, evx, evy, evz, em, erho, ec;
   std::vector<double> pair_w;                     // per neighbour-list entry (viscous_heating_term)
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
   std::vector<std::uint32_t> order;
@@ -77,6 +100,149 @@ struct SphSolver::Impl {
     for (const char* name : {"kick", "rates", "material", "drift", "search", "forces", "energy"}) {
       timings.push_back({name, 0.0});
     }
+    for (std::size_t f = 0; f < 6; ++f) {
+      const BoundaryKind k = s.config_.domain.faces[f];
+      mirror_face[f] = k == BoundaryKind::symmetry || k == BoundaryKind::slip;
+      outflow_face[f] = k == BoundaryKind::outflow;
+      mirrors = mirrors || mirror_face[f];
+      outflows = outflows || outflow_face[f];
+    }
+  }
+
+  double plane(std::size_t face) const {
+    return face % 2 == 0 ? s.config_.domain.lo[static_cast<int>(face / 2)]
+                         : s.config_.domain.hi[static_cast<int>(face / 2)];
+  }
+  std::size_t ghost_count() const { return mirrors ? ghosts.size() : 0; }
+
+  // The mirror particles for the current positions and h: every image of a real particle that
+  // lies within 2 max h of a reflecting face (the largest support h_i + h_j, so every image that
+  // can be a neighbour), including the edge and corner images across two or three faces. Serial
+  // and in index order, so the images and their numbering are the same on any thread count.
+  void make_ghosts() {
+    if (!mirrors) return;
+    const ParticleStore& P = s.particles_;
+    const std::size_t n = P.size();
+    const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+    double hmax = 0.0;
+    for (std::size_t p = 0; p < n; ++p) hmax = std::max(hmax, h[p]);
+    const double reach = 2.0 * hmax;
+    ghosts.clear();
+    for (std::size_t p = 0; p < n; ++p) {
+      std::int8_t opt[3][3];
+      int count[3];
+      for (int a = 0; a < 3; ++a) {
+        count[a] = 0;
+        opt[a][count[a]++] = 0;
+        const auto lo = static_cast<std::size_t>(2 * a), hi = lo + 1;
+        if (mirror_face[lo] && X[a][p] - plane(lo) < reach) opt[a][count[a]++] = -1;
+        if (mirror_face[hi] && plane(hi) - X[a][p] < reach) opt[a][count[a]++] = 1;
+      }
+      if (count[0] + count[1] + count[2] == 3) continue;
+      for (int i = 0; i < count[0]; ++i) {
+        for (int j = 0; j < count[1]; ++j) {
+          for (int k = 0; k < count[2]; ++k) {
+            if (i == 0 && j == 0 && k == 0) continue;
+            ghosts.push_back({static_cast<std::uint32_t>(p), {opt[0][i], opt[1][j], opt[2][k]}});
+          }
+        }
+      }
+    }
+    const std::size_t m = n + ghosts.size();
+    for (auto* v : {&h, &h_mid, &ax, &ay, &az, &ex, &ey, &ez, &evx, &evy, &evz, &em, &erho, &ec}) {
+      v->resize(m);
+    }
+    for (auto& v : a_stress) v.resize(m);
+    double* E[3] = {ex.data(), ey.data(), ez.data()};
+    for (int a = 0; a < 3; ++a) std::copy(X[a], X[a] + n, E[a]);
+    for (std::size_t k = 0; k < ghosts.size(); ++k) {
+      const Mirror& g = ghosts[k];
+      for (int a = 0; a < 3; ++a) {
+        const double x = X[a][g.src];
+        const auto face = static_cast<std::size_t>(2 * a + (g.side[a] > 0 ? 1 : 0));
+        E[a][n + k] = g.side[a] == 0 ? x : 2.0 * plane(face) - x;
+      }
+      h[n + k] = h[g.src];
+    }
+  }
+
+  // Reflected copies of a per-particle vector (sign -1 on reflected axes) or scalar.
+  void mirror_vector(double* vx, double* vy, double* vz, std::size_t n) const {
+    for (std::size_t k = 0; k < ghosts.size(); ++k) {
+      const Mirror& g = ghosts[k];
+      vx[n + k] = g.side[0] != 0 ? -vx[g.src] : vx[g.src];
+      vy[n + k] = g.side[1] != 0 ? -vy[g.src] : vy[g.src];
+      vz[n + k] = g.side[2] != 0 ? -vz[g.src] : vz[g.src];
+    }
+  }
+  void mirror_scalar(double* v, std::size_t n) const {
+    for (std::size_t k = 0; k < ghosts.size(); ++k) v[n + k] = v[ghosts[k].src];
+  }
+
+  // The state the gather passes read, real then mirrored (velocity, mass, density, sound speed).
+  void refresh_ghost_state() {
+    if (!mirrors) return;
+    const ParticleStore& P = s.particles_;
+    const std::size_t n = P.size();
+    const std::pair<Field, double*> copies[] = {
+        {Field::vx, evx.data()},  {Field::vy, evy.data()},   {Field::vz, evz.data()},
+        {Field::mass, em.data()}, {Field::rho, erho.data()}, {Field::soundspeed, ec.data()}};
+    for (const auto& [f, to] : copies) {
+      const double* from = P.col(f).data();
+      std::copy(from, from + n, to);
+    }
+    mirror_vector(evx.data(), evy.data(), evz.data(), n);
+    mirror_scalar(em.data(), n);
+    mirror_scalar(erho.data(), n);
+    mirror_scalar(ec.data(), n);
+  }
+
+  // A real particle that crossed a reflecting face during the drift is reflected back (position
+  // and normal velocity, which keeps its kinetic energy): it met its own image. Then particles
+  // beyond an outflow face leave, their energy booked as outflow (as MPM's outflow), with the
+  // velocity and internal energy at t^n+1/2 (a^{n+1} is not made for them).
+  void boundaries_after_drift() {
+    ParticleStore& P = s.particles_;
+    const std::size_t n = P.size();
+    double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+    double* V[3] = {P.col(Field::vx).data(), P.col(Field::vy).data(), P.col(Field::vz).data()};
+    if (mirrors) {
+      for (std::size_t face = 0; face < 6; ++face) {
+        if (!mirror_face[face]) continue;
+        const int a = static_cast<int>(face / 2);
+        const double p0 = plane(face), sign = face % 2 == 0 ? 1.0 : -1.0;
+        for (std::size_t p = 0; p < n; ++p) {
+          if (sign * (X[a][p] - p0) < 0.0) {
+            X[a][p] = 2.0 * p0 - X[a][p];
+            V[a][p] = -V[a][p];
+          }
+        }
+      }
+    }
+    if (!outflows) return;
+    leaving.assign(n, 0);
+    const double* m = P.col(Field::mass).data();
+    const double* e = P.col(Field::energy).data();
+    const Vec3 g = s.config_.gravity;
+    double carried = 0.0;
+    for (std::size_t p = 0; p < n; ++p) {
+      bool out = false;
+      for (std::size_t face = 0; face < 6; ++face) {
+        if (!outflow_face[face]) continue;
+        const double d = X[face / 2][p] - plane(face);
+        out = out || (face % 2 == 0 ? d < 0.0 : d > 0.0);
+      }
+      if (!out) continue;
+      leaving[p] = 1;
+      carried += 0.5 * m[p] * (V[0][p] * V[0][p] + V[1][p] * V[1][p] + V[2][p] * V[2][p]) +
+                 m[p] * e[p] - m[p] * (g.x() * X[0][p] + g.y() * X[1][p] + g.z() * X[2][p]);
+    }
+    if (P.remove_if(leaving) == 0) return;
+    if (P.size() == 0) {
+      throw NumericalError("every particle has left through the outflow boundaries", 0,
+                           s.clock_.step);
+    }
+    s.energy_.outflow += carried;
   }
 
   template <class F>
@@ -90,6 +256,18 @@ struct SphSolver::Impl {
   ks::PairInputs inputs() {
     ParticleStore& P = s.particles_;
     ks::PairInputs in;
+    if (mirrors) {
+      in.x = ex.data();
+      in.y = ey.data();
+      in.z = ez.data();
+      in.vx = evx.data();
+      in.vy = evy.data();
+      in.vz = evz.data();
+      in.mass = em.data();
+      in.rho = erho.data();
+      in.h = h.data();
+      return in;
+    }
     in.x = P.col(Field::x).data();
     in.y = P.col(Field::y).data();
     in.z = P.col(Field::z).data();
@@ -102,6 +280,8 @@ struct SphSolver::Impl {
     return in;
   }
 
+  // Real particles; make_ghosts() extends the per-point arrays for the images (within the
+  // capacity once the image count stops growing: no allocation).
   void resize(std::size_t n) {
     for (auto* v : {&h, &h_mid, &ax, &ay, &az, &heat, &mu, &kick_heat}) v->resize(n);
     for (auto& v : a_stress) v.resize(n);
@@ -123,6 +303,11 @@ struct SphSolver::Impl {
 
   void build_search() {
     const ParticleStore& P = s.particles_;
+    if (mirrors) {
+      make_ghosts();
+      search.build(ex.data(), ey.data(), ez.data(), h.data(), P.size() + ghosts.size(), P.size());
+      return;
+    }
     search.build(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
                  P.size());
   }
@@ -170,10 +355,23 @@ struct SphSolver::Impl {
                           }
                         }
                       });
+    if (mirrors) {
+      // sigma^{ab} of the image: negated when exactly one of a, b is a reflected axis.
+      static constexpr int kAxes[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
+      for (std::size_t k = 0; k < ghosts.size(); ++k) {
+        const Mirror& g = ghosts[k];
+        for (int c = 0; c < 6; ++c) {
+          const bool flip = (g.side[kAxes[c][0]] != 0) != (g.side[kAxes[c][1]] != 0);
+          const double v = a_stress[c][g.src];
+          a_stress[c][n + k] = flip ? -v : v;
+        }
+      }
+      refresh_ghost_state();
+    }
     const ks::PairInputs in = inputs();
     ks::ForceInputs f;
     for (int c = 0; c < 6; ++c) f.a_stress[c] = a_stress[c].data();
-    f.soundspeed = P.col(Field::soundspeed).data();
+    f.soundspeed = mirrors ? ec.data() : P.col(Field::soundspeed).data();
     f.viscosity.alpha = s.sph_.alpha;
     f.viscosity.beta = s.sph_.beta;
     for (int d = 0; d < 3; ++d) f.gravity[d] = s.config_.gravity[d];
@@ -187,6 +385,8 @@ struct SphSolver::Impl {
                                               search.offset(i));
                         }
                       });
+    // The images' a^n, for the next kick's viscous heat (rates pass).
+    if (mirrors) mirror_vector(ax.data(), ay.data(), az.data(), n);
   }
 
   void kick(double dt_kick) {
@@ -239,6 +439,10 @@ struct SphSolver::Impl {
   void rates(double dt, double dt_kick) {
     ParticleStore& P = s.particles_;
     midpoint_smoothing_lengths(dt);
+    if (mirrors) {
+      mirror_scalar(h_mid.data(), P.size());
+      refresh_ghost_state();  // v^{n+1/2} of the images
+    }
     ks::PairInputs in = inputs();
     in.h = h_mid.data();
     ks::RateOutputs out;
@@ -406,12 +610,19 @@ SphSolver::SphSolver(SolverConfig config, SphConfig sph, ParticleStore particles
   }
   static constexpr const char* kFaces[6] = {"x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi"};
   for (std::size_t f = 0; f < 6; ++f) {
-    if (config_.domain.faces[f] != BoundaryKind::none) {
+    const BoundaryKind k = config_.domain.faces[f];
+    if (k == BoundaryKind::fixed) {
       throw std::invalid_argument(fmt::format(
-          "solver.method = \"sph\" has free surfaces only: domain face {} is '{}' (SPH mirror "
-          "particles and walls are not implemented yet; run the full body without a symmetry "
-          "plane, or use method \"mpm\")",
-          kFaces[f], name_of(config_.domain.faces[f])));
+          "solver.method = \"sph\": domain face {} is 'fixed' (no-slip walls are not implemented "
+          "for SPH; 'slip', 'symmetry', 'outflow' and 'none' are)",
+          kFaces[f]));
+    }
+    const int a = static_cast<int>(f / 2);
+    const double bound = f % 2 == 0 ? config_.domain.lo[a] : config_.domain.hi[a];
+    if (k != BoundaryKind::none && !std::isfinite(bound)) {
+      throw std::invalid_argument(
+          fmt::format("solver.method = \"sph\": domain face {} is '{}' but lies at {}", kFaces[f],
+                      name_of(k), bound));
     }
   }
   if (config_.body_force) {
@@ -420,6 +631,21 @@ SphSolver::SphSolver(SolverConfig config, SphConfig sph, ParticleStore particles
   check_solver_inputs(
       particles_, materials_,
       {Field::x, Field::y, Field::z, Field::vx, Field::vy, Field::vz, Field::mass, Field::rho});
+  for (std::size_t f = 0; f < 6; ++f) {
+    const BoundaryKind k = config_.domain.faces[f];
+    if (k != BoundaryKind::symmetry && k != BoundaryKind::slip) continue;
+    // A particle behind a reflecting face would overlap its own image.
+    const int a = static_cast<int>(f / 2);
+    const double bound = f % 2 == 0 ? config_.domain.lo[a] : config_.domain.hi[a];
+    const auto x = particles_.col(a == 0 ? Field::x : a == 1 ? Field::y : Field::z);
+    for (std::size_t p = 0; p < particles_.size(); ++p) {
+      if (f % 2 == 0 ? x[p] < bound : x[p] > bound) {
+        throw std::invalid_argument(fmt::format(
+            "solver.method = \"sph\": particle {} ({} = {}) lies beyond the {} face {} at {}", p,
+            "xyz"[a], x[p], name_of(k), kFaces[f], bound));
+      }
+    }
+  }
   particles_.require(kSphFields);
   particles_.require(IField::id);
   for (const auto& m : materials_) particles_.require(m->fields());
@@ -472,7 +698,10 @@ void SphSolver::step() {
       I.heat_from_kick();
     });
     I.timed(kMaterial, [&] { I.material(dt); });
-    I.timed(kDrift, [&] { I.drift(dt); });
+    I.timed(kDrift, [&] {
+      I.drift(dt);
+      I.boundaries_after_drift();
+    });
     clock_.time += dt;
     clock_.dt_prev = dt;
     ++clock_.step;

@@ -23,9 +23,15 @@ class NeighbourSearch {
  public:
   // Builds the lists for n points. Positions and h must be finite; h > 0.
   void build(const double* x, const double* y, const double* z, const double* h, std::size_t n);
+  // As above, but lists only for points 0 .. n_lists - 1; points n_lists .. n - 1 are found as
+  // neighbours and have no list of their own (the mirror particles of the SPH boundaries).
+  void build(const double* x, const double* y, const double* z, const double* h, std::size_t n,
+             std::size_t n_lists);
 
+  // Points in the last build, and those with a list.
   std::size_t size() const { return n_; }
-  // Neighbours of point i (i itself excluded).
+  std::size_t lists() const { return lists_; }
+  // Neighbours of point i < lists() (i itself excluded).
   std::span<const std::uint32_t> of(std::size_t i) const {
     return {list_.data() + offsets_[i], offsets_[i + 1] - offsets_[i]};
   }
@@ -34,7 +40,7 @@ class NeighbourSearch {
   // Index of point i's first entry in the concatenated lists (for per-pair data).
   std::size_t offset(std::size_t i) const { return offsets_[i]; }
   // Total number of (ordered) pairs: sum over i of count(i).
-  std::size_t pairs() const { return offsets_.empty() ? 0 : offsets_[n_]; }
+  std::size_t pairs() const { return offsets_.empty() ? 0 : offsets_[lists_]; }
   // Cell of each point in the last build, numbered in key order (for re-ordering particles in
   // memory by cell).
   std::span<const std::uint32_t> cells() const { return {cell_.data(), n_}; }
@@ -54,6 +60,7 @@ class NeighbourSearch {
     }
   };
   std::size_t n_ = 0;
+  std::size_t lists_ = 0;
   double cell_size_ = 0.0;
   std::vector<KeyIndex> keyed_;            // (cell key, point) sorted
   std::vector<std::uint64_t> cell_key_;    // occupied cells' keys, ascending

@@ -10,8 +10,11 @@
 //                heat at the kick's mean velocity, added to the energy
 //   3. material  MaterialModel::update per group: the same composed EOS + strength + damage
 //                kernel as MPM (Jaumann rotation, energy from deps : sigma), zero bulk viscosity
-//   4. drift     x^{n+1} = x^n + v^{n+1/2} dt
-//   5. search    h^{n+1} from rho^{n+1}; neighbour lists at x^{n+1} (sorted cell lists)
+//   4. drift     x^{n+1} = x^n + v^{n+1/2} dt; a particle that crossed a reflecting face is
+//                reflected back, particles beyond an outflow face leave
+//   5. search    h^{n+1} from rho^{n+1}; mirror particles across the symmetry and slip faces
+//                (images of the particles within 2 max h of the face); neighbour lists at x^{n+1}
+//                (sorted cell lists) for the real particles, over real and mirror particles
 //   6. forces    gather pass: a^{n+1} from Eq. 17 (full stress) + Monaghan viscosity (and the
 //                per-pair viscous weights the next step's heat uses)
 //   7. energy    and the next dt (CFL with the viscous signal speed, and the force criterion)
@@ -37,8 +40,9 @@ class SphSolver final : public Solver {
   // Same store contract as Simulation: x, v, mass, rho (and energy) present; every group's
   // material in `materials`. SolverConfig supplies cfl, dt_max, dt_min, gravity and
   // reorder_interval; cell_size, shape, transfer and viscosity are MPM settings and unused.
-  // Domain boundaries other than 'none' and body forces are rejected (std::invalid_argument):
-  // SPH has free surfaces only so far.
+  // Domain faces: none (free surface), symmetry and slip (mirror particles; a particle behind
+  // such a face is rejected), outflow (particles beyond it leave, their energy booked as
+  // outflow); 'fixed' and body forces are rejected (std::invalid_argument).
   SphSolver(SolverConfig config, SphConfig sph, ParticleStore particles,
             std::vector<MaterialPtr> materials, int threads = 0);
   ~SphSolver() override;
