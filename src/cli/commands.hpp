@@ -30,6 +30,10 @@ struct FragmentOptions {
   std::optional<double> threshold;
   std::optional<std::string> method;
   std::optional<std::filesystem::path> prefix;  // output files: PREFIX.csv, .h5, .pkdgrav
+  // friends_of_friends (BA95 Sec. 4.4): friends within one SPH smoothing length, h = factor
+  // (m/rho)^{1/3} (an SPH run's solver.sph.h_factor); and the static-strength pre-pass, Pa.
+  std::optional<double> smoothing_factor;
+  std::optional<double> static_strength;
 };
 int fragments_command(const std::filesystem::path& snapshot, const FragmentOptions& options);
 

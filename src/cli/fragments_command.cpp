@@ -1,3 +1,6 @@
+#include <cmath>
+#include <utility>
+
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
@@ -23,6 +26,20 @@ int fragments_command(const std::filesystem::path& snapshot, const FragmentOptio
     spec.damage_threshold = *options.threshold;
   }
   if (options.method) spec.method = *options.method;
+  for (const auto& [name, value] : {std::pair{"--smoothing-factor", options.smoothing_factor},
+                                    std::pair{"--static-strength", options.static_strength}}) {
+    if (!value) continue;
+    if (spec.method != "friends_of_friends") {
+      spdlog::error("{} applies only with --method friends_of_friends", name);
+      return kBadInput;
+    }
+    if (!(*value > 0.0) || !std::isfinite(*value)) {
+      spdlog::error("{} must be a positive number (got {})", name, *value);
+      return kBadInput;
+    }
+  }
+  spec.smoothing_factor = options.smoothing_factor.value_or(0.0);
+  spec.static_strength = options.static_strength.value_or(0.0);
   std::filesystem::path prefix =
       options.prefix.value_or(snapshot.parent_path() / (snapshot.stem().string() + "_fragments"));
   try {

@@ -80,6 +80,13 @@ int main(int argc, char** argv) {
   auto* method_opt = fragments->add_option("--method", method, "grid_density | friends_of_friends");
   auto* prefix_opt =
       fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.pkdgrav");
+  double smoothing_factor = 0.0, static_strength = 0.0;
+  auto* smoothing_opt = fragments->add_option(
+      "--smoothing-factor", smoothing_factor,
+      "friends_of_friends: friends within one SPH smoothing length h = F (m/rho)^(1/3) (BA95)");
+  auto* static_opt = fragments->add_option(
+      "--static-strength", static_strength,
+      "friends_of_friends: undamaged points at this principal tension (Pa) count as failed");
   fragments->add_flag("--quiet", quiet, "only warnings and errors");
 
   MaterialOptions material_options;
@@ -125,6 +132,8 @@ int main(int argc, char** argv) {
       if (threshold_opt->count() > 0) fragment_options.threshold = threshold;
       if (method_opt->count() > 0) fragment_options.method = method;
       if (prefix_opt->count() > 0) fragment_options.prefix = prefix;
+      if (smoothing_opt->count() > 0) fragment_options.smoothing_factor = smoothing_factor;
+      if (static_opt->count() > 0) fragment_options.static_strength = static_strength;
       return fragments_command(snapshot, fragment_options);
     }
     if (material->parsed()) {

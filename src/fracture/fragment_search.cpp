@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "damage/principal.hpp"
@@ -22,11 +23,13 @@ constexpr std::int64_t kNone = -1;
 // Point data gathered in cell-sorted order, and the neighbour query on it.
 struct Cloud {
   std::vector<double> x, y, z, vol;
+  std::vector<double> h;  // per point linking length (BA95: smoothing length); empty = link2
   std::vector<std::uint8_t> failed;
   const CellGrid* grid = nullptr;
   double link2 = 0.0;
 
-  // Calls f(j) for every point j != k closer than the linking length.
+  // Calls f(j) for every point j != k closer than the linking length (with per-point lengths,
+  // their mean h_jk, as the SPH kernel's h_ij).
   template <class F>
   void for_each_friend(std::uint32_t k, F&& f) const {
     grid->for_each_neighbour_cell(grid->cell_of(k), [&](std::uint32_t c) {
@@ -34,7 +37,13 @@ struct Cloud {
       for (std::uint32_t j = cell.begin; j < cell.end; ++j) {
         if (j == k) continue;
         const double dx = x[j] - x[k], dy = y[j] - y[k], dz = z[j] - z[k];
-        if (dx * dx + dy * dy + dz * dz <= link2) f(j);
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        if (h.empty()) {
+          if (r2 <= link2) f(j);
+        } else {
+          const double l = 0.5 * (h[j] + h[k]);
+          if (r2 <= l * l) f(j);
+        }
       }
     });
   }
@@ -142,10 +151,33 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
   double total_volume = 0.0;
   for (std::uint32_t p : canonical) total_volume += vol0[p];
   const double spacing = std::cbrt(total_volume / static_cast<double>(n));
-  const double h = spec.cell_size > 0.0 ? spec.cell_size : 2.0 * spacing;
+  double h = spec.cell_size > 0.0 ? spec.cell_size : 2.0 * spacing;
   const double link = spec.linking_length > 0.0 ? spec.linking_length : 1.5 * spacing;
   if (!(h > 0.0)) throw std::invalid_argument("fragment search: particle volumes are zero");
-  if (link > h) throw std::invalid_argument("fragment search: linking_length exceeds cell_size");
+  // BA95 Sec. 4.4: friends within one SPH smoothing length, h = factor (m / rho)^{1/3}.
+  const bool by_smoothing_length =
+      spec.method == "friends_of_friends" && spec.smoothing_factor > 0.0;
+  std::vector<double> smoothing;
+  if (by_smoothing_length) {
+    if (!store.has(Field::mass) || !store.has(Field::rho)) {
+      throw std::logic_error(
+          "fragment search: linking by smoothing length needs the mass and rho columns");
+    }
+    const auto m = store.col(Field::mass), rho = store.col(Field::rho);
+    smoothing.resize(n);
+    double h_max = 0.0;
+    for (std::size_t p = 0; p < n; ++p) {
+      smoothing[p] = spec.smoothing_factor * std::cbrt(m[p] / rho[p]);
+      if (!(smoothing[p] > 0.0) || !std::isfinite(smoothing[p])) {
+        throw std::invalid_argument("fragment search: particle " + std::to_string(p) +
+                                    " has no finite positive smoothing length (mass / rho)");
+      }
+      h_max = std::max(h_max, smoothing[p]);
+    }
+    h = std::max(h, h_max);  // friends are within max h: the 27 cells around a point hold them
+  } else if (link > h) {
+    throw std::invalid_argument("fragment search: linking_length exceeds cell_size");
+  }
 
   // Origin half a spacing below the lowest point: a lattice starting at the bounding-box corner
   // then fills whole cells with 2x2x2 points when h = 2 x spacing (the paper's set-up).
@@ -167,6 +199,7 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
   cloud.y.resize(n);
   cloud.z.resize(n);
   cloud.vol.resize(n);
+  if (by_smoothing_length) cloud.h.resize(n);
   cloud.failed.assign(n, 0);
   const bool has_damage = store.has(Field::damage);
   const bool pre_pass = spec.method == "friends_of_friends" && spec.static_strength > 0.0;
@@ -182,6 +215,7 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
     cloud.y[k] = ys[p];
     cloud.z[k] = zs[p];
     cloud.vol[k] = vol0[p];
+    if (by_smoothing_length) cloud.h[k] = smoothing[p];
     bool failed = has_damage && damage[p] >= spec.damage_threshold;
     if (pre_pass && !failed) {
       // BA95 Sec. 4.4: a particle whose largest principal tension exceeds the static strength

@@ -129,7 +129,7 @@ void read_fracture(Reader& root, Scene& scene) {
     t = root.subtable("fracture");
   }
   Reader r(*t, "fracture", root.where("fracture"));
-  r.allow({"seed", "threshold", "fragment_method", "fragment_cell"});
+  r.allow({"seed", "threshold", "fragment_method", "fragment_cell", "static_strength"});
   r.reject_unknown();
   const auto seed = r.integer("seed", 1);
   if (seed < 0) r.fail("seed", "must be >= 0");
@@ -142,6 +142,18 @@ void read_fracture(Reader& root, Scene& scene) {
       r.choice("fragment_method", "grid_density", {"grid_density", "friends_of_friends"});
   scene.fracture.search.damage_threshold = scene.fracture.threshold;
   scene.fracture.search.cell_size = r.non_negative("fragment_cell", r.number("fragment_cell", 0.0));
+  // BA95 Sec. 4.4 (friends_of_friends only): the static-strength pre-pass, Pa (0 = off); and,
+  // for SPH runs, friends within one smoothing length (the solver's h = h_factor (m/rho)^{1/3}).
+  if (r.has("static_strength")) {
+    if (scene.fracture.search.method != "friends_of_friends") {
+      r.fail("static_strength", "applies only with fragment_method = \"friends_of_friends\"");
+    }
+    scene.fracture.search.static_strength =
+        r.positive("static_strength", r.number("static_strength", 0.0));
+  }
+  if (scene.method == "sph" && scene.fracture.search.method == "friends_of_friends") {
+    scene.fracture.search.smoothing_factor = scene.sph.h_factor;
+  }
 }
 
 void read_output(Reader& root, Scene& scene) {

@@ -29,6 +29,11 @@ struct FragmentSearchSpec {
   // friends_of_friends: BA95's pre-pass, Pa; > 0 treats unfailed points whose largest principal
   // stress reaches it as failed (the store's damage column is not modified). Needs the stress.
   double static_strength = 0.0;
+  // friends_of_friends: > 0 replaces linking_length by the SPH smoothing length, as BA95
+  // Sec. 4.4 define friends ("a particle within one smoothing length"): i and j are friends when
+  // closer than (h_i + h_j) / 2, h = smoothing_factor (mass / rho)^{1/3} (the SPH solver's rule,
+  // so the factor is solver.sph.h_factor). Needs mass and rho; cell_size grows to max h if needed.
+  double smoothing_factor = 0.0;
 };
 
 struct Fragment {

@@ -14,7 +14,7 @@
 //   [body.NAME]                shape + its keys, material, velocity, spacing, points_per_cell,
 //                              energy, mass, [body.NAME.damage]
 //   [impact]                   projectile, target, speed, angle, direction, offset, gap
-//   [fracture]                 seed, threshold, fragment_method, fragment_cell
+//   [fracture]                 seed, threshold, fragment_method, fragment_cell, static_strength
 //   [output]                   directory, snapshot_every, columns, checkpoint_every,
 //                              timeseries_every, progress_every, fragments
 
