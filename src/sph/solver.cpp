@@ -692,7 +692,22 @@ void SphSolver::step() {
     Impl& I = *impl_;
     const double dt = clock_.dt;
     const double dt_kick = 0.5 * (clock_.dt_prev + dt);
-    I.timed(kKick, [&] { I.kick(dt_kick); });
+    I.timed(kKick, [&] {
+      I.kick(dt_kick);
+      if (constraint_) {
+        const auto kinetic = [&] {
+          const ParticleStore& P = particles_;
+          const auto m = P.col(Field::mass);
+          const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
+          return deterministic_sum(P.size(), [&](std::size_t p) {
+            return 0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]);
+          });
+        };
+        const double before = kinetic();
+        constraint_(clock_.time + 0.5 * dt, particles_);
+        energy_.boundary_work += before - kinetic();
+      }
+    });
     I.timed(kRates, [&] {
       I.rates(dt, dt_kick);
       I.heat_from_kick();

@@ -24,6 +24,7 @@
 // checkpoint (which holds rho) restores it exactly. Steps 5-6 are a pure function of the columns,
 // so restore() rebuilds them and a resumed run continues bit for bit.
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -67,6 +68,15 @@ class SphSolver final : public Solver {
   void restore(const Clock& clock, const EnergyBudget& energy, double internal_next) override;
   double internal_next() const override { return energy_.internal; }
 
+  // Prescribed velocities, for tests and studies (the grips of the tensile rod, BA95 Sec. 5.1):
+  // called after every kick with t^{n+1/2} and the store, it may overwrite any velocities; the
+  // drift and the rates then use them. The kinetic energy it adds or removes is booked as
+  // boundary work (at the half-step velocities; the budget is approximate for the driven
+  // particles, whose accelerations enter the synchronised kinetic energy). Not in a checkpoint:
+  // set it again after a restore. Empty = none.
+  using VelocityConstraint = std::function<void(double t, ParticleStore&)>;
+  void set_velocity_constraint(VelocityConstraint c) { constraint_ = std::move(c); }
+
   // The neighbour lists at the current positions, and the smoothing lengths they used.
   const NeighbourSearch& neighbours() const;
   std::span<const double> smoothing_length() const;
@@ -80,6 +90,7 @@ class SphSolver final : public Solver {
   int threads_ = 0;
   Clock clock_;
   EnergyBudget energy_;
+  VelocityConstraint constraint_;
   std::unique_ptr<Impl> impl_;
 };
 
