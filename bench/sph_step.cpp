@@ -29,7 +29,7 @@ using namespace shatter;
 constexpr double kSpacing = 1.0e-3;  // m
 
 // A cube of e^3 points (e^3 closest to n) of basalt with damage, and its smooth velocity field.
-std::unique_ptr<sph::SphSolver> make_cube(std::int64_t n, int threads) {
+std::unique_ptr<sph::SphSolver> make_cube(std::int64_t n, int threads, double skin = 0.1) {
   const int e = static_cast<int>(std::lround(std::cbrt(static_cast<double>(n))));
   const double side = e * kSpacing;
   const std::string text = fmt::format(R"(
@@ -43,13 +43,15 @@ lo = [0.0, 0.0, 0.0]
 hi = [{1}, {1}, {1}]
 material = "basalt"
 points_per_cell = 1
+[solver.sph]
+skin = {2}
 [body.cube.damage]
 model = "grady_kipp"
 weibull_m = 8.5
 weibull_k = 3.0e39
 total_flaws = 1.0e9
 )",
-                                       kSpacing, side);
+                                       kSpacing, side, skin);
   const scene::Scene s = scene::parse_scene(text, "bench.toml");
   scene::BuiltScene b = scene::build(s);
   ParticleStore& P = b.particles;
@@ -95,9 +97,11 @@ void BM_NeighbourSearch(benchmark::State& state) {
 }
 
 void BM_SphStep(benchmark::State& state) {
-  auto sim = make_cube(state.range(0), static_cast<int>(state.range(1)));
+  auto sim = make_cube(state.range(0), static_cast<int>(state.range(1)),
+                       static_cast<double>(state.range(2)) / 100.0);
   sim->step();  // warm-up
   const std::vector<StageTiming> before = sim->stage_timings();
+  const std::uint64_t builds0 = sim->neighbour_builds();
   for (auto _ : state) sim->step();
   const std::vector<StageTiming>& after = sim->stage_timings();
   const double n = static_cast<double>(sim->particles().size());
@@ -108,11 +112,24 @@ void BM_SphStep(benchmark::State& state) {
         1e9 * (after[s].seconds - before[s].seconds) / (steps * n);
   }
   state.counters["neighbours"] = static_cast<double>(sim->neighbours().pairs()) / n;
+  state.counters["builds/step"] = static_cast<double>(sim->neighbour_builds() - builds0) / steps;
+}
+
+// particles {1e5, 1e6} x threads {1, 2} x Verlet skin {0, 10 %} of 2 max h (0: lists rebuilt
+// every step, as before the skin; 10 %: the default).
+void sizes_threads_skins(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"particles", "threads", "skin%"});
+  for (const std::int64_t n : {100'000, 1'000'000}) {
+    for (const std::int64_t t : {1, 2}) {
+      for (const std::int64_t skin : {0, 10}) b->Args({n, t, skin});
+    }
+  }
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 }
 
 }  // namespace
 
 BENCHMARK(BM_NeighbourSearch)->Apply(bench::sizes_and_threads);
-BENCHMARK(BM_SphStep)->Apply(bench::sizes_and_threads);
+BENCHMARK(BM_SphStep)->Apply(sizes_threads_skins);
 
 BENCHMARK_MAIN();

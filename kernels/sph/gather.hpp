@@ -24,7 +24,20 @@ struct PairInputs {
   const double* mass = nullptr;
   const double* rho = nullptr;
   const double* h = nullptr;  // smoothing length
+  // The smoothing lengths of the lists' criterion |x_i - x_j| < h_i + h_j at these positions,
+  // when the lists carry a skin (Verlet lists): entries beyond it are skipped, so the sums are
+  // those of a list without the skin. nullptr: every entry counts (the forces pass uses h).
+  const double* h_support = nullptr;
 };
+
+// True when j is within i's support at the current positions, by the neighbour search's own
+// expression (src/sph/neighbours.cpp), so a list with a skin counts exactly the entries a list
+// without one holds.
+inline bool within_support(const PairInputs& in, const double* h, std::size_t i, std::uint32_t j) {
+  const double dx = in.x[i] - in.x[j], dy = in.y[i] - in.y[j], dz = in.z[i] - in.z[j];
+  const double reach = h[i] + h[j];
+  return dx * dx + dy * dy + dz * dz < reach * reach;
+}
 
 // Pass 1 outputs: the increments MaterialModel::update expects (App. A.2 step 7 of the MPM
 // paper, same columns as MPM), and rho^{n+1}. L below is the sum of Eq. 18 before the division
@@ -62,6 +75,7 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
   const double half_kick = 0.5 * kick.dt_kick;
   for (std::size_t k = 0; k < count; ++k) {
     const std::uint32_t j = nb[k];
+    if (in.h_support != nullptr && !within_support(in, in.h_support, i, j)) continue;
     const double dv[3] = {in.vx[j] - vi[0], in.vy[j] - vi[1], in.vz[j] - vi[2]};
     if (w != nullptr && w[k] != 0.0) {
       // v_ij at the middle of the kick: v^{n+1/2} - (a_i - a_j) dt_kick / 2.
@@ -136,6 +150,11 @@ inline void forces_particle(const PairInputs& in, const ForceInputs& f, const st
     const std::uint32_t j = nb[k];
     const double dx[3] = {xi - in.x[j], yi - in.y[j], zi - in.z[j]};
     const double r2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+    const double reach = hi + in.h[j];
+    if (!(r2 < reach * reach)) {  // a skin entry (the search's criterion, same expression)
+      if (w != nullptr) w[k] = 0.0;
+      continue;
+    }
     const double h_ij = 0.5 * (hi + in.h[j]);
     const double F = cubic_f(std::sqrt(r2), h_ij);
     const double grad[3] = {F * dx[0], F * dx[1], F * dx[2]};

@@ -82,11 +82,12 @@ void read_solver(Reader& root, Scene& scene) {
       sph = r.subtable("sph");
     }
     Reader q(*sph, "solver.sph", r.where("sph"));
-    q.allow({"h_factor", "alpha", "beta"});
+    q.allow({"h_factor", "alpha", "beta", "skin"});
     q.reject_unknown();
     scene.sph.h_factor = q.positive("h_factor", q.number("h_factor", scene.sph.h_factor));
     scene.sph.alpha = q.non_negative("alpha", q.number("alpha", scene.sph.alpha));
     scene.sph.beta = q.non_negative("beta", q.number("beta", scene.sph.beta));
+    scene.sph.skin = q.non_negative("skin", q.number("skin", scene.sph.skin));
   }
 
   // Contact between bodies (engine/config.hpp ContactKind). The paper's single shared field is

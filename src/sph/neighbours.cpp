@@ -40,11 +40,14 @@ std::size_t NeighbourSearch::bytes() const {
 
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
                             std::size_t n) {
-  build(x, y, z, h, n, n);
+  build(x, y, z, h, n, n, 0.0);
 }
 
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
-                            std::size_t n, std::size_t n_lists) {
+                            std::size_t n, std::size_t n_lists, double skin) {
+  if (!(skin >= 0.0) || !std::isfinite(skin)) {
+    throw std::invalid_argument(fmt::format("neighbour search: skin must be >= 0, got {}", skin));
+  }
   if (n >= std::numeric_limits<std::uint32_t>::max()) {
     throw std::invalid_argument(fmt::format("neighbour search: {} points exceed 2^32 - 1", n));
   }
@@ -81,10 +84,11 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
     throw std::invalid_argument(fmt::format("neighbour search: largest h is {}", hmax));
   }
 
-  // Cell edge: the largest support, 2 hmax >= h_i + h_j, so the 27 cells around a point hold
-  // all its neighbours. Only occupied cells exist (sorted keys), so debris flying far costs
-  // nothing; only a cloud wider than 2^21 cells on an axis gets larger cells.
-  double cs = 2.0 * hmax;
+  // Cell edge: the largest support plus the skin, 2 hmax + skin >= h_i + h_j + skin, so the 27
+  // cells around a point hold all its neighbours. Only occupied cells exist (sorted keys), so
+  // debris flying far costs nothing; only a cloud wider than 2^21 cells on an axis gets larger
+  // cells.
+  double cs = 2.0 * hmax + skin;
   for (int d = 0; d < 3; ++d) {
     while ((hi[d] - lo[d]) / cs >= static_cast<double>(kAxisCells - 2)) cs *= 2.0;
   }
@@ -136,7 +140,7 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
           const std::uint32_t j = sorted_[s];
           if (j == i) continue;
           const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
-          const double reach = hi_ + h[j];  // 2 h_ij
+          const double reach = hi_ + h[j] + skin;  // 2 h_ij (+ the skin)
           if (dx * dx + dy * dy + dz * dz < reach * reach) f(j);
         }
       }
@@ -160,6 +164,8 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
                           if (i >= n_lists) continue;  // a point that is only a neighbour
                           const std::size_t before = buf.size();
                           visit(i, [&](std::uint32_t j) { buf.push_back(j); });
+                          // Ascending index: the canonical order, whatever the cells and skin.
+                          std::sort(buf.begin() + static_cast<std::ptrdiff_t>(before), buf.end());
                           offsets_[i + 1] = buf.size() - before;
                         }
                       }

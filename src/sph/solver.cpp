@@ -38,6 +38,17 @@ double deterministic_sum(std::size_t n, F&& term) {
 }
 
 template <class F>
+double exact_max(std::size_t n, F&& term) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, kGrain), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+        for (std::size_t p = r.begin(); p < r.end(); ++p) acc = std::max(acc, term(p));
+        return acc;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
+template <class F>
 double exact_min(std::size_t n, double init, F&& term) {
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, n, kGrain), init,
@@ -94,6 +105,13 @@ struct SphSolver::Impl {
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
   std::vector<std::uint32_t> order;
   std::vector<StageTiming> timings;
+  // Verlet lists: positions and h at the last build, the skin it used (m), whether the lists
+  // are those of the current store (false after a restore or when particles left), and the
+  // number of builds.
+  AlignedVector<double> xb, yb, zb, hb;
+  double skin_abs = 0.0;
+  bool lists_valid = false;
+  std::uint64_t builds = 0;
 
   Impl(SphSolver& solver, int threads)
       : s(solver), arena(threads > 0 ? threads : tbb::task_arena::automatic) {
@@ -119,14 +137,14 @@ struct SphSolver::Impl {
   // lies within 2 max h of a reflecting face (the largest support h_i + h_j, so every image that
   // can be a neighbour), including the edge and corner images across two or three faces. Serial
   // and in index order, so the images and their numbering are the same on any thread count.
-  void make_ghosts() {
+  // With a skin the images within 2 max h + skin are made, and kept (their positions and h
+  // follow their sources, place_ghosts()) while the lists are reused.
+  void make_ghosts(double hmax) {
     if (!mirrors) return;
     const ParticleStore& P = s.particles_;
     const std::size_t n = P.size();
     const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
-    double hmax = 0.0;
-    for (std::size_t p = 0; p < n; ++p) hmax = std::max(hmax, h[p]);
-    const double reach = 2.0 * hmax;
+    const double reach = 2.0 * hmax + skin_abs;
     ghosts.clear();
     for (std::size_t p = 0; p < n; ++p) {
       std::int8_t opt[3][3];
@@ -153,6 +171,14 @@ struct SphSolver::Impl {
       v->resize(m);
     }
     for (auto& v : a_stress) v.resize(m);
+    place_ghosts();
+  }
+
+  // Positions (the reflections of their sources' current positions) and h of the images.
+  void place_ghosts() {
+    const ParticleStore& P = s.particles_;
+    const std::size_t n = P.size();
+    const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
     double* E[3] = {ex.data(), ey.data(), ez.data()};
     for (int a = 0; a < 3; ++a) std::copy(X[a], X[a] + n, E[a]);
     for (std::size_t k = 0; k < ghosts.size(); ++k) {
@@ -238,6 +264,7 @@ struct SphSolver::Impl {
                  m[p] * e[p] - m[p] * (g.x() * X[0][p] + g.y() * X[1][p] + g.z() * X[2][p]);
     }
     if (P.remove_if(leaving) == 0) return;
+    lists_valid = false;
     if (P.size() == 0) {
       throw NumericalError("every particle has left through the outflow boundaries", 0,
                            s.clock_.step);
@@ -301,28 +328,73 @@ struct SphSolver::Impl {
                       });
   }
 
-  void build_search() {
+  // Builds the lists with the skin (sph.skin x 2 max h) and records the positions and h they
+  // were built at.
+  void build_search(bool with_skin = true) {
     const ParticleStore& P = s.particles_;
+    const std::size_t n = P.size();
+    const double hmax = exact_max(n, [&](std::size_t p) { return h[p]; });
+    skin_abs = with_skin ? s.sph_.skin * 2.0 * hmax : 0.0;
     if (mirrors) {
-      make_ghosts();
-      search.build(ex.data(), ey.data(), ez.data(), h.data(), P.size() + ghosts.size(), P.size());
-      return;
+      make_ghosts(hmax);
+      search.build(ex.data(), ey.data(), ez.data(), h.data(), n + ghosts.size(), n, skin_abs);
+    } else {
+      search.build(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
+                   n, n, skin_abs);
     }
-    search.build(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
-                 P.size());
+    const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+    for (auto* v : {&xb, &yb, &zb, &hb}) v->resize(n);
+    std::copy(X[0], X[0] + n, xb.begin());
+    std::copy(X[1], X[1] + n, yb.begin());
+    std::copy(X[2], X[2] + n, zb.begin());
+    std::copy(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n), hb.begin());
+    lists_valid = true;
+    ++builds;
+  }
+
+  // Whether the lists (and images) of the last build still hold every pair within support:
+  // a pair outside the lists was >= h_i + h_j + skin apart at the build; since then its distance
+  // fell by at most |dx_i| + |dx_j| and its support grew by at most dh_i+ + dh_j+, so twice the
+  // largest |dx_p| + dh_p+ below the skin keeps it outside (an image moves and grows as its
+  // source; an image not made was >= 2 max h + skin from every real point). 1 % of the skin is
+  // kept for round-off. Exact maximum: any thread count decides alike.
+  bool lists_still_cover() const {
+    const ParticleStore& P = s.particles_;
+    const std::size_t n = P.size();
+    if (!lists_valid || xb.size() != n || !(skin_abs > 0.0)) return false;
+    const auto x = P.col(Field::x), y = P.col(Field::y), z = P.col(Field::z);
+    const double worst = exact_max(n, [&](std::size_t p) {
+      const double dx = x[p] - xb[p], dy = y[p] - yb[p], dz = z[p] - zb[p];
+      return std::sqrt(dx * dx + dy * dy + dz * dz) + std::max(0.0, h[p] - hb[p]);
+    });
+    return 2.0 * worst <= 0.99 * skin_abs;
   }
 
   // Steps 5-6 of the header: a pure function of the columns (and of the step count, which picks
   // the steps that re-order memory), so restore() can rebuild it bit for bit.
   void search_and_forces(bool may_reorder) {
     ParticleStore& P = s.particles_;
-    resize(P.size());
     timed(kSearch, [&] {
       check_state();
-      smoothing_lengths();
-      build_search();
       const unsigned every = s.config_.reorder_interval;
-      if (may_reorder && every > 0 && s.clock_.step % every == 0) {
+      const bool reorder = may_reorder && every > 0 && s.clock_.step % every == 0;
+      if (!reorder && lists_valid && xb.size() == P.size()) {
+        // Verlet lists: keep the last build's lists while they cover every pair. The passes
+        // skip the skin's entries and the lists are in index order, so the sums are those of
+        // fresh lists, bit for bit (tested), and a resumed run that builds afresh continues
+        // identically.
+        smoothing_lengths();
+        if (lists_still_cover()) {
+          if (mirrors) place_ghosts();
+          return;
+        }
+      }
+      resize(P.size());
+      smoothing_lengths();
+      // Before a re-order, the cells that order memory must not depend on the skin (they would
+      // change the particle order and so the bits): those of a build without one.
+      build_search(!reorder);
+      if (reorder) {
         // Re-order each material group by cell (stable, so deterministic): the gather passes
         // then stream through memory. The lists are rebuilt for the new order.
         const auto cells = search.cells();
@@ -445,6 +517,7 @@ struct SphSolver::Impl {
     }
     ks::PairInputs in = inputs();
     in.h = h_mid.data();
+    in.h_support = h.data();  // the lists' criterion at x^n (skips the skin's entries)
     ks::RateOutputs out;
     for (int c = 0; c < 6; ++c) out.deps[c] = P.col(kDepsOrder[c]).data();
     for (int c = 0; c < 3; ++c) out.dspin[c] = P.col(kSpinOrder[c]).data();
@@ -604,6 +677,9 @@ SphSolver::SphSolver(SolverConfig config, SphConfig sph, ParticleStore particles
     throw std::invalid_argument(
         fmt::format("solver.sph: h_factor must be > 0, got {}", sph_.h_factor));
   }
+  if (!(sph_.skin >= 0.0) || !std::isfinite(sph_.skin)) {
+    throw std::invalid_argument(fmt::format("solver.sph: skin must be >= 0, got {}", sph_.skin));
+  }
   if (!(sph_.alpha >= 0.0) || !(sph_.beta >= 0.0)) {
     throw std::invalid_argument(fmt::format(
         "solver.sph: alpha and beta must be >= 0, got {} and {}", sph_.alpha, sph_.beta));
@@ -671,6 +747,9 @@ const std::vector<StageTiming>& SphSolver::stage_timings() const {
 const NeighbourSearch& SphSolver::neighbours() const {
   return impl_->search;
 }
+std::uint64_t SphSolver::neighbour_builds() const {
+  return impl_->builds;
+}
 std::span<const double> SphSolver::smoothing_length() const {
   return {impl_->h.data(), particles_.size()};
 }
@@ -678,6 +757,7 @@ std::span<const double> SphSolver::smoothing_length() const {
 void SphSolver::restore(const Clock& clock, const EnergyBudget& energy) {
   clock_ = clock;
   energy_ = energy;
+  impl_->lists_valid = false;
   // Steps 5-6 again on the restored columns (no re-order: the checkpointed store is already in
   // the order the original run had after its own re-order at this step).
   impl_->arena.execute([&] { impl_->search_and_forces(false); });

@@ -10,6 +10,11 @@ struct SphConfig {
   // Monaghan viscosity (kernels/sph/terms.hpp); Monaghan (1992) recommends alpha = 1, beta = 2.
   double alpha = 1.0;
   double beta = 2.0;
+  // Verlet skin of the neighbour lists, as a fraction of the largest support 2 max h: the lists
+  // hold pairs within h_i + h_j + skin and are reused until a particle has moved (plus grown
+  // its h) by half the skin. Results do not depend on it (bitwise; tested), only the speed.
+  // 0 = lists rebuilt every step.
+  double skin = 0.1;
 };
 
 }  // namespace shatter::sph

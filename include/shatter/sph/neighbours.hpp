@@ -5,12 +5,14 @@
 // of keys, looked up by binary search, one interval per row of three cells, so ejecta flying far
 // from the body cost nothing (a dense cell array over the bounding box would either grow with it
 // or need coarser cells). Each point gathers its neighbours from the 27 cells around its own. j is
-// a neighbour of i when j != i and |x_i - x_j| < h_i + h_j = 2 h_ij (the support of W(r, h_ij)).
-// Each list is in a fixed order (cells in z, y, x order, then ascending index), independent of the
-// thread count, so the gather sums over it are bitwise reproducible. Buffers are reused: a build
-// allocates only while a buffer grows past its largest size so far (the lists are gathered in
-// one pass per chunk of points into per-chunk buffers, then copied into place), so a run stops
-// allocating once its neighbour counts stop growing.
+// a neighbour of i when j != i and |x_i - x_j| < h_i + h_j + skin (2 h_ij is the support of
+// W(r, h_ij); the skin, 0 by default, lets the lists serve several steps, Verlet lists). Each list
+// is in ascending index order: canonical, independent of the cells, the skin and the thread
+// count, so a gather over a list with a skin (whose extra entries the passes skip) sums the same
+// terms in the same order as over a fresh list without one, and the sums have the same bits.
+// Buffers are reused: a build allocates only while a buffer grows past its largest size so far (the
+// lists are gathered in one pass per chunk of points into per-chunk buffers, then copied into
+// place), so a run stops allocating once its neighbour counts stop growing.
 
 #include <cstddef>
 #include <cstdint>
@@ -26,7 +28,7 @@ class NeighbourSearch {
   // As above, but lists only for points 0 .. n_lists - 1; points n_lists .. n - 1 are found as
   // neighbours and have no list of their own (the mirror particles of the SPH boundaries).
   void build(const double* x, const double* y, const double* z, const double* h, std::size_t n,
-             std::size_t n_lists);
+             std::size_t n_lists, double skin = 0.0);
 
   // Points in the last build, and those with a list.
   std::size_t size() const { return n_; }

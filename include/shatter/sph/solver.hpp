@@ -12,9 +12,11 @@
 //                kernel as MPM (Jaumann rotation, energy from deps : sigma), zero bulk viscosity
 //   4. drift     x^{n+1} = x^n + v^{n+1/2} dt; a particle that crossed a reflecting face is
 //                reflected back, particles beyond an outflow face leave
-//   5. search    h^{n+1} from rho^{n+1}; mirror particles across the symmetry and slip faces
-//                (images of the particles within 2 max h of the face); neighbour lists at x^{n+1}
-//                (sorted cell lists) for the real particles, over real and mirror particles
+//   5. search    h^{n+1} from rho^{n+1}; the lists are kept while their Verlet skin covers the
+//                motion since they were built, else rebuilt with mirror particles across the
+//                symmetry and slip faces (images of the particles within 2 max h of the face);
+//                neighbour lists at x^{n+1} (sorted cell lists) for the real particles, over real
+//                and mirror particles
 //   6. forces    gather pass: a^{n+1} from Eq. 17 (full stress) + Monaghan viscosity (and the
 //                per-pair viscous weights the next step's heat uses)
 //   7. energy    and the next dt (CFL with the viscous signal speed, and the force criterion)
@@ -79,6 +81,8 @@ class SphSolver final : public Solver {
 
   // The neighbour lists at the current positions, and the smoothing lengths they used.
   const NeighbourSearch& neighbours() const;
+  // Neighbour-list builds so far (with a Verlet skin, fewer than steps).
+  std::uint64_t neighbour_builds() const;
   std::span<const double> smoothing_length() const;
 
  private:
