@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
   std::string transfer = "flip";
   double pic_fraction = 0.0;
   int xpic_order = 5;
+  double cfl = 0.3;
   bool append = false;
   app.add_option("-o,--output", out, "CSV file to write");
   app.add_option("--shapes", shapes, "shape functions")->capture_default_str();
@@ -88,6 +89,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--xpic-order", xpic_order, "XPIC order m (xpic only)")
       ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  app.add_option("--cfl", cfl, "Courant number (Eq. 34)")
+      ->check(CLI::Range(1e-3, 1.0))
       ->capture_default_str();
   app.add_flag("--append", append, "append rows to the CSV instead of rewriting it");
   app.add_option("-t,--threads", threads, "worker threads per run")->capture_default_str();
@@ -121,12 +125,13 @@ int main(int argc, char** argv) {
   if (transfer == "apic") scheme = "_apic";
   if (transfer == "flip" && pic_fraction > 0.0) scheme = fmt::format("_pic{:g}", pic_fraction);
   if (transfer == "xpic") scheme = fmt::format("_xpic{}", xpic_order);
+  if (cfl != 0.3) scheme += fmt::format("_cfl{:g}", cfl);
   const std::string suffix = std::string(wall == "fixed" ? "" : "_symwall") + scheme;
   const auto transfer_kind = transfer == "flip"   ? shatter::TransferKind::flip
                              : transfer == "apic" ? shatter::TransferKind::apic
                                                   : shatter::TransferKind::xpic;
   auto settings = [&](int n, ShapeKind k) {
-    sv::RunSettings s{n, k, threads, 0.3, transfer_kind};
+    sv::RunSettings s{n, k, threads, cfl, transfer_kind};
     s.pic_fraction = transfer == "flip" ? pic_fraction : 0.0;
     s.xpic_order = xpic_order;
     return s;
