@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> problems{"bar", "mms"};
   int threads = 1;
   double periods = sv::VibratingBar{}.periods;
+  double bar_v0 = sv::VibratingBar{}.v0;
   std::string wall = "fixed";
   std::string transfer = "flip";
   double pic_fraction = 0.0;
@@ -77,6 +78,10 @@ int main(int argc, char** argv) {
   app.add_option("--mms-cells", mms_cells, "cell counts of the manufactured solution")
       ->capture_default_str();
   app.add_option("--bar-periods", periods, "vibrating bar run time in periods")
+      ->capture_default_str();
+  app.add_option("--bar-v0", bar_v0,
+                 "vibrating bar velocity amplitude (m/s); the strain amplitude is v0 / c")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_option("--wall", wall, "condition at the clamped ends: fixed or symmetry")
       ->check(CLI::IsMember({"fixed", "symmetry"}))
@@ -126,6 +131,7 @@ int main(int argc, char** argv) {
   if (transfer == "flip" && pic_fraction > 0.0) scheme = fmt::format("_pic{:g}", pic_fraction);
   if (transfer == "xpic") scheme = fmt::format("_xpic{}", xpic_order);
   if (cfl != 0.3) scheme += fmt::format("_cfl{:g}", cfl);
+  if (bar_v0 != sv::VibratingBar{}.v0) scheme += fmt::format("_v0_{:g}", bar_v0);
   const std::string suffix = std::string(wall == "fixed" ? "" : "_symwall") + scheme;
   const auto transfer_kind = transfer == "flip"   ? shatter::TransferKind::flip
                              : transfer == "apic" ? shatter::TransferKind::apic
@@ -141,6 +147,7 @@ int main(int argc, char** argv) {
       if (p == "bar") {
         sv::VibratingBar bar;
         bar.periods = periods;
+        bar.v0 = bar_v0;
         bar.wall = wall_kind;
         for (const int n : bar_cells) {
           const sv::BarErrors e = sv::run_vibrating_bar(bar, settings(n, k));
