@@ -1,13 +1,19 @@
 #!/usr/bin/python3
 """Plot the convergence study (tools/convergence, CSV from `convergence_study`).
 
-Two log-log panels: error against wall time (what accuracy a given run time buys) and error
-against cell size h, with the least-squares order of each series in the legend.
+Four log-log panels: the large-deformation manufactured solution (G = 0.05) against cell size
+and against wall time, and the small-deformation MMS (G = 1e-4) and the vibrating bar's
+displacement against the same two, one series per transfer scheme (uGIMP) and per shape (FLIP),
+with the least-squares order of each series in the legends of the cell-size panels.
+
+Problem names in the CSV are <problem>[_symwall][_<scheme>], scheme one of apic, pic<f> (the
+FLIP/PIC blend with PIC fraction f), xpic<m> (XPIC of order m); no scheme suffix is FLIP.
 
 Usage: /usr/bin/python3 tools/plot_convergence.py docs/convergence.csv docs/convergence.png
 """
 import argparse
 import csv
+import re
 from collections import defaultdict
 
 import matplotlib
@@ -16,23 +22,37 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-# The series plotted, with their labels; the centre-of-mass rows stay in the table only, so the
-# figure has one error measure per problem.
-PROBLEMS = {
-    "bar_displacement": "bar u",
-    "mms_small": "MMS G=1e-4",
-    "mms_large": "MMS G=0.05",
-    "bar_displacement_symwall": "bar u, sym. wall",
-    "mms_small_symwall": "MMS G=1e-4, sym. wall",
-    "mms_large_symwall": "MMS G=0.05, sym. wall",
-}
-COLOURS = {"linear": "tab:red", "ugimp": "tab:blue", "bspline2": "tab:green"}
+BASES = ("bar_displacement", "bar_com_velocity", "mms_small", "mms_large")
+LABELS = {"bar_displacement": "bar u", "mms_small": "MMS G=1e-4", "mms_large": "MMS G=0.05"}
 MARKERS = {"bar_displacement": "o", "mms_small": "s", "mms_large": "^"}
+SCHEME_COLOURS = {
+    "flip": "tab:blue",
+    "pic0.05": "tab:orange",
+    "pic1": "tab:red",
+    "xpic2": "tab:green",
+    "xpic5": "tab:olive",
+    "apic": "tab:purple",
+}
+SHAPE_STYLES = {"ugimp": "-", "linear": ":", "bspline2": "--"}
 
 
 def fitted_order(h, err):
     """Least-squares slope of log(err) against log(h)."""
     return np.polyfit(np.log(h), np.log(err), 1)[0]
+
+
+def split_problem(name):
+    """(base problem, symwall?, scheme) of a CSV problem name."""
+    for base in BASES:
+        if name.startswith(base):
+            rest = name[len(base):]
+            sym = rest.startswith("_symwall")
+            rest = rest.removeprefix("_symwall")
+            m = re.fullmatch(r"(?:_(apic|pic[0-9.]+|xpic[0-9]+))?", rest)
+            if m is None:
+                return None
+            return base, sym, m.group(1) or "flip"
+    return None
 
 
 def main():
@@ -44,46 +64,48 @@ def main():
     series = defaultdict(lambda: {"h": [], "err": [], "wall": []})
     with open(args.csv, newline="") as f:
         for row in csv.DictReader(f):
-            if row["problem"] not in PROBLEMS:
-                continue
-            s = series[(row["problem"], row["shape"])]
+            key = split_problem(row["problem"])
+            if key is None or key[0] == "bar_com_velocity" or key[1]:
+                continue  # the centre-of-mass and mirrored-wall rows stay in the table only
+            s = series[(key[0], key[2], row["shape"])]
             s["h"].append(float(row["h_m"]))
             s["err"].append(float(row["error"]))
             s["wall"].append(float(row["wall_s"]))
 
-    fig, (ax_t, ax_h) = plt.subplots(1, 2, figsize=(17, 6.5))
-    for (problem, shape), s in sorted(series.items(), key=lambda kv: list(PROBLEMS).index(kv[0][0])):
+    fig, axes = plt.subplots(2, 2, figsize=(17, 12))
+    panels = {"mms_large": (axes[0, 0], axes[0, 1]), "mms_small": (axes[1, 0], axes[1, 1]),
+              "bar_displacement": (axes[1, 0], axes[1, 1])}
+    for (base, scheme, shape), s in sorted(series.items()):
         order = np.argsort(s["h"])
         h = np.asarray(s["h"])[order]
         err = np.asarray(s["err"])[order]
         wall = np.asarray(s["wall"])[order]
-        base = problem.removesuffix("_symwall")
-        style = dict(
-            color=COLOURS.get(shape, "k"),
-            marker=MARKERS.get(base, "x"),
-            linestyle="--" if problem.endswith("_symwall") else "-",
-            markersize=5,
-        )
-        label = f"{PROBLEMS[problem]}, {shape}"
-        ax_t.loglog(wall, err, label=label, **style)
+        style = dict(color=SCHEME_COLOURS.get(scheme, "k"), marker=MARKERS[base],
+                     linestyle=SHAPE_STYLES.get(shape, "-"), markersize=5)
+        label = f"{LABELS[base]}, {scheme}, {shape}"
+        ax_h, ax_t = panels[base]
         ax_h.loglog(h / h.max(), err, label=f"{label}: order {fitted_order(h, err):.2f}", **style)
+        ax_t.loglog(wall, err, label=label, **style)
 
-    ax_t.set_xlabel("wall time per run [s] (1 thread)")
-    ax_t.set_ylabel("relative L2 displacement error")
-    ax_t.set_title("error vs run time")
-    ax_h.set_xlabel("cell size h / h_coarsest")
-    ax_h.set_title("error vs cell size (fitted order over all points)")
-    for ax in (ax_t, ax_h):
+    axes[0, 0].set_title("large-deformation MMS (G = 0.05), error vs cell size")
+    axes[0, 1].set_title("large-deformation MMS (G = 0.05), error vs run time")
+    axes[1, 0].set_title("small MMS (G = 1e-4, squares) and vibrating bar (circles) vs cell size")
+    axes[1, 1].set_title("small MMS and vibrating bar vs run time")
+    for ax in axes[:, 0]:
+        ax.set_xlabel("cell size h / h_coarsest")
+        x = np.array([1 / 64, 1.0])
+        ax.loglog(x, 3e-1 * x, "k:", linewidth=1, label="order 1")
+        ax.loglog(x, 3e-1 * x**2, "k-.", linewidth=1, label="order 2")
+        ax.legend(fontsize=7, loc="lower right", ncol=1)
+    for ax in axes[:, 1]:
+        ax.set_xlabel("wall time per run [s] (1 thread, shared cores)")
+    for ax in axes.flat:
+        ax.set_ylabel("relative L2 displacement error")
         ax.grid(True, which="both", alpha=0.3)
-    # Guide slopes for orders 1 and 2.
-    x = np.array([1 / 64, 1.0])
-    ax_h.loglog(x, 3e-1 * x, "k:", linewidth=1, label="order 1")
-    ax_h.loglog(x, 3e-1 * x**2, "k-.", linewidth=1, label="order 2")
-    # One legend for both panels (same styles), outside the axes so it hides no data.
-    ax_h.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    fig.suptitle("shatter verification: vibrating bar (problem 1) and manufactured solution (problem 2)")
+    fig.suptitle("shatter verification per transfer scheme (colour) and shape (line style: "
+                 "uGIMP solid, linear dotted, B-spline dashed)")
     fig.tight_layout()
-    fig.savefig(args.png, dpi=120)
+    fig.savefig(args.png, dpi=110)
 
 
 if __name__ == "__main__":

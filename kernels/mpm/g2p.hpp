@@ -1,7 +1,8 @@
 #pragma once
 // Grid-to-particle update (App. A.2 step 5): particle velocity from the nodal accelerations
-// F_I / M_I and particle displacement from the nodal velocities P_I^{n+1/2} / M_I. The
-// displacement is kept aside: steps 6-7 still need the shape functions at x^n.
+// F_I / M_I (FLIP) and/or a filtered grid velocity (PIC, XPIC, APIC; see TransferKind), and
+// particle displacement from the nodal velocities P_I^{n+1/2} / M_I. The displacement is kept
+// aside: steps 6-7 still need the shape functions at x^n.
 
 #include <cstdint>
 
@@ -16,8 +17,43 @@ struct G2PParticles {
   double inv_h;
   double dt_velocity;  // dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (leapfrog, Fig. 16)
   double dt_position;  // dt^{n+1/2}
-  bool pic;            // APIC: the particle takes the grid velocity instead of adding a dt (FLIP)
+  // Share of the filtered grid velocity w = S v_f in the new particle velocity:
+  // v_p <- (1 - f) (v_p + S a dt) + f w. 0: FLIP (the paper's step 5); 1: the particle takes the
+  // grid velocity (APIC, PIC, XPIC); in between: the FLIP/PIC blend. 0 and 1 are exact branches,
+  // so FLIP and PIC are bitwise what they were.
+  double pic_fraction;
+  // Nodal velocity v_f that w interpolates; null: the updated grid velocity v^{n+1} (in p*).
+  // XPIC's S (V*_m + a dt) (Hammerquist & Nairn 2017) comes in here.
+  const double *fvx, *fvy, *fvz;
 };
+
+// Interpolated nodal velocity at a particle, w_p = sum_I N_I(x_p) v_I: the S operator of
+// Hammerquist & Nairn (2017), used by XPIC's extra grid-particle-grid passes.
+template <class Shape>
+void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Coord& owner,
+                     const std::uint32_t* neighbours, const double* vx, const double* vy,
+                     const double* vz, double* wx, double* wy, double* wz) {
+  constexpr int W = Shape::kWidth;
+  Stencil<Shape> st;
+  const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+  st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
+  double ux = 0, uy = 0, uz = 0;
+  for (int a = 0; a < W; ++a) {
+    for (int b = 0; b < W; ++b) {
+      const double wab = st.w[0][a] * st.w[1][b];
+      for (int c = 0; c < W; ++c) {
+        const std::uint32_t i = st.node(neighbours, a, b, c);
+        const double N = wab * st.w[2][c];
+        ux += N * vx[i];
+        uy += N * vy[i];
+        uz += N * vz[i];
+      }
+    }
+  }
+  wx[p] = ux;
+  wy[p] = uy;
+  wz[p] = uz;
+}
 
 // Grid arrays after the grid update: acceleration in f*, velocity in p*.
 template <class Shape>
@@ -27,7 +63,8 @@ void g2p_particle(const G2PParticles& in, std::size_t p, const SparseGrid::Coord
   Stencil<Shape> st;
   const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
   st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
-  double ax = 0, ay = 0, az = 0, ux = 0, uy = 0, uz = 0;
+  const bool filtered = in.fvx != nullptr;
+  double ax = 0, ay = 0, az = 0, ux = 0, uy = 0, uz = 0, wx = 0, wy = 0, wz = 0;
   for (int a = 0; a < W; ++a) {
     for (int b = 0; b < W; ++b) {
       const double wab = st.w[0][a] * st.w[1][b];
@@ -40,17 +77,29 @@ void g2p_particle(const G2PParticles& in, std::size_t p, const SparseGrid::Coord
         ux += N * nodes.px[i];
         uy += N * nodes.py[i];
         uz += N * nodes.pz[i];
+        if (filtered) {
+          wx += N * in.fvx[i];
+          wy += N * in.fvy[i];
+          wz += N * in.fvz[i];
+        }
       }
     }
   }
-  if (in.pic) {
-    in.vx[p] = ux;
-    in.vy[p] = uy;
-    in.vz[p] = uz;
-  } else {
+  if (!filtered) wx = ux, wy = uy, wz = uz;
+  const double f = in.pic_fraction;
+  if (f == 1.0) {
+    in.vx[p] = wx;
+    in.vy[p] = wy;
+    in.vz[p] = wz;
+  } else if (f == 0.0) {
     in.vx[p] += in.dt_velocity * ax;
     in.vy[p] += in.dt_velocity * ay;
     in.vz[p] += in.dt_velocity * az;
+  } else {
+    const double g = 1.0 - f;
+    in.vx[p] = g * (in.vx[p] + in.dt_velocity * ax) + f * wx;
+    in.vy[p] = g * (in.vy[p] + in.dt_velocity * ay) + f * wy;
+    in.vz[p] = g * (in.vz[p] + in.dt_velocity * az) + f * wz;
   }
   in.dx[p] = in.dt_position * ux;
   in.dy[p] = in.dt_position * uy;

@@ -74,9 +74,14 @@ struct Simulation::Impl {
   // more; otherwise the step is the single-field step, bitwise.
   std::unique_ptr<engine::Contact> contact;
   std::vector<double> step4_velocity;  // body-copy node velocities kept through the remap
-  double dt_step = 0.0;                // dt^{n+1/2} of the step being taken
-  double internal_next = 0.0;          // sum m E at t^{n+1}, reported with the next step
-  double empty_mass = 0.0;             // nodes lighter than this are treated as empty
+  // XPIC (TransferKind::xpic): v^{n+1} kept aside while the grid momentum arrays hold the extra
+  // passes, the running (S+ S)^{k-1} term, the filtered velocity V*_m + a dt handed to G2P, and
+  // the interpolated velocities S V of one pass at the particles.
+  std::vector<double> xpic_v[3], xpic_term[3], xpic_target[3];
+  AlignedVector<double> xpic_w[3];
+  double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
+  double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
+  double empty_mass = 0.0;     // nodes lighter than this are treated as empty
   // The state before the step being taken, to take it again (Simulation::step).
   struct Saved {
     ParticleStore particles;
@@ -97,10 +102,13 @@ struct Simulation::Impl {
   template <class Shape>
   void sort();
   template <class Shape>
-  void p2g(bool with_force);
+  void p2g(bool with_force, double* const* velocity = nullptr);
   template <class Shape>
   void p2g_bodies(const kernels::P2GParticles& in, bool with_force);
   void grid_update();
+  double filtered_share() const;
+  template <class Shape>
+  void xpic();
   template <class Shape>
   void g2p();
   template <class Shape>
@@ -138,6 +146,23 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
     // colliding-sphere test diverges within 50 steps. Jiang et al. (2015) use smooth kernels.
     throw std::invalid_argument(
         "solver: transfer 'apic' needs a smooth shape function (ugimp or bspline2), not 'linear'");
+  }
+  if (!(config_.pic_fraction >= 0.0 && config_.pic_fraction <= 1.0)) {
+    throw std::invalid_argument(
+        fmt::format("solver: pic_fraction must be in [0, 1], got {}", config_.pic_fraction));
+  }
+  if (config_.pic_fraction != 0.0 && config_.transfer != TransferKind::flip) {
+    throw std::invalid_argument(fmt::format(
+        "solver: pic_fraction applies only to transfer 'flip' (the FLIP/PIC blend), not '{}'",
+        name_of(config_.transfer)));
+  }
+  // Orders past ~40 are unstable (Hammerquist & Nairn 2017; each order is one more
+  // grid-particle-grid pass), and the binomial weights C(m, k) lose precision.
+  constexpr int kMaxXpicOrder = 32;
+  if (config_.transfer == TransferKind::xpic &&
+      (config_.xpic_order < 1 || config_.xpic_order > kMaxXpicOrder)) {
+    throw std::invalid_argument(fmt::format("solver: xpic_order must be in [1, {}], got {}",
+                                            kMaxXpicOrder, config_.xpic_order));
   }
   if (particles_.has(Field::size0)) {
     // A zero size would make the uGIMP weights 0/0; such particles get the cubic-lattice size.
@@ -339,6 +364,13 @@ void Simulation::Impl::build_stages() {
   graph.add({"grid_update", {{}, R::kClock | R::kBlocks}, {{}, R::kGrid | R::kBudget}, [this] {
                grid_update();
              }});
+  // 5a. XPIC(m): the m - 1 extra grid-particle-grid passes that build V*_m (TransferKind::xpic)
+  if (sim.config_.transfer == TransferKind::xpic && sim.config_.xpic_order > 1) {
+    graph.add({"xpic",
+               {geometry | FieldSet{Field::mass}, R::kBlocks | R::kClock},
+               {{}, R::kGrid},
+               [this] { xpic<Shape>(); }});
+  }
   // 5. particle velocity and displacement from the grid
   graph.add({"g2p",
              {geometry | FieldSet{Field::mass}, R::kGrid | R::kBlocks | R::kClock},
@@ -438,10 +470,16 @@ void Simulation::Impl::sort() {
   }
 }
 
+// velocity: scatter m_p w_p with these particle velocities instead of v_p (momentum only; XPIC).
 template <class Shape>
-void Simulation::Impl::p2g(bool with_force) {
+void Simulation::Impl::p2g(bool with_force, double* const* velocity) {
   ParticleStore& P = sim.particles_;
   kernels::P2GParticles in = engine::p2g_inputs(P, inv_h(), with_force);
+  if (velocity != nullptr) {
+    in.vx = velocity[0];
+    in.vy = velocity[1];
+    in.vz = velocity[2];
+  }
   const bool affine = sim.config_.transfer == TransferKind::apic;
   if (affine) vgrad_columns(P, in.vgrad);
   if (with_force) {
@@ -552,7 +590,96 @@ void Simulation::Impl::grid_update() {
   // wall only through the constrained acceleration, so there is nothing to book: an ideal wall
   // does no work, and booking the nodal loss made a clamped bar that keeps its energy report a
   // 2.4% "boundary work" drift (scenes/verification/vibrating-bar.toml).
-  if (sim.config_.transfer == TransferKind::apic) sim.energy_.boundary_work += removed;
+  // The same holds for the share of the grid velocity that PIC, XPIC and the FLIP/PIC blend hand
+  // the particles.
+  const double taken = filtered_share();
+  if (taken > 0.0) sim.energy_.boundary_work += taken * removed;
+}
+
+double Simulation::Impl::filtered_share() const {
+  switch (sim.config_.transfer) {
+    case TransferKind::flip:
+      return sim.config_.pic_fraction;
+    case TransferKind::apic:
+    case TransferKind::xpic:
+      return 1.0;
+  }
+  return 0.0;
+}
+
+// XPIC(m), Hammerquist & Nairn (2017): V*_m = sum_{k=1..m} (-1)^{k+1} C(m,k) (S+ S)^{k-1} V^L,
+// with V^L = S+ v_p the lumped grid velocity of the particles at the start of the step and
+// (S+ S V)_I = (1/m_I) sum_p m_p N_I(x_p) sum_J N_J(x_p) V_J one grid-particle-grid pass. It is
+// the grid form of their particle update v_p <- v_p - (I - S S+)^m v_p + S a dt: the
+// PIC filter's projection I - S S+ applied m times, so velocity noise in the null space of S+ is
+// removed while what the grid can represent loses only its (I - S+ S)^m part. Each pass is a
+// gather and the momentum-only scatter of the MUSL remap (same colouring, same boundary
+// conditions: S+ includes them), so node sums stay in canonical order. The term C(m,k) (S+S)^{k-1}
+// V^L is formed recursively with the ratio C(m,k)/C(m,k-1) = (m-k+1)/k, as in the authors' own
+// code (NairnMPM, XPICExtrapolationTask). G2P then takes S (V*_m + a dt) = S (v^{n+1} + V*_m -
+// V^L), which is v^{n+1} itself, and so PIC bitwise, for m = 1.
+template <class Shape>
+void Simulation::Impl::xpic() {
+  ParticleStore& P = sim.particles_;
+  auto& N = grid.nodes();
+  const std::size_t nodes = N.px.size();
+  const std::size_t n = P.size();
+  const int m = sim.config_.xpic_order;
+  const double dt = 0.5 * (sim.clock_.dt_prev + dt_step);  // the kick of grid_update
+  std::vector<double>* mom[3] = {&N.px, &N.py, &N.pz};
+  const std::vector<double>* acc[3] = {&N.fx, &N.fy, &N.fz};
+  for (int d = 0; d < 3; ++d) {
+    xpic_v[d].swap(*mom[d]);  // v^{n+1} aside; the momentum arrays become the pass's workspace
+    mom[d]->resize(nodes);
+    xpic_term[d].resize(nodes);
+    xpic_target[d].resize(nodes);
+    xpic_w[d].resize(n);
+  }
+  const auto node_loop = [&](auto&& body) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
+                      });
+  };
+  // k = 1: C(m,1) V^L, with V^L = v^{n+1} - a dt (the lumped velocity after the boundary
+  // conditions of grid_update). xpic_target accumulates V*_m - V^L.
+  const double md = static_cast<double>(m);
+  node_loop([&](std::size_t i) {
+    for (int d = 0; d < 3; ++d) {
+      const double vl = xpic_v[d][i] - dt * (*acc[d])[i];
+      xpic_term[d][i] = md * vl;
+      xpic_target[d][i] = (md - 1.0) * vl;
+    }
+  });
+  kernels::G2PParticles in = engine::g2p_inputs(P, inv_h(), nullptr, nullptr, nullptr);
+  double* w[3] = {xpic_w[0].data(), xpic_w[1].data(), xpic_w[2].data()};
+  for (int k = 2; k <= m; ++k) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                          kernels::gather_velocity<Shape>(in, p, grid.coord(grid.owner_of(p)),
+                                                          grid.particle_neighbours(p),
+                                                          xpic_term[0].data(), xpic_term[1].data(),
+                                                          xpic_term[2].data(), w[0], w[1], w[2]);
+                        }
+                      });
+    p2g<Shape>(false, w);
+    boundaries.mirror(grid, engine::Boundaries::kMomentum);
+    boundaries.velocities(grid, empty_mass);
+    const double ratio = static_cast<double>(m - k + 1) / static_cast<double>(k);
+    const double sign = k % 2 == 0 ? -1.0 : 1.0;  // (-1)^{k+1}
+    node_loop([&](std::size_t i) {
+      for (int d = 0; d < 3; ++d) {
+        const double t = ratio * (*mom[d])[i];
+        xpic_term[d][i] = t;
+        xpic_target[d][i] += sign * t;
+      }
+    });
+  }
+  node_loop([&](std::size_t i) {
+    for (int d = 0; d < 3; ++d) xpic_target[d][i] += xpic_v[d][i];
+  });
+  for (int d = 0; d < 3; ++d) xpic_v[d].swap(*mom[d]);  // v^{n+1} back for the displacement
 }
 
 template <class Shape>
@@ -561,7 +688,13 @@ void Simulation::Impl::g2p() {
   kernels::G2PParticles in = engine::g2p_inputs(P, inv_h(), dx.data(), dy.data(), dz.data());
   in.dt_velocity = 0.5 * (sim.clock_.dt_prev + dt_step);
   in.dt_position = dt_step;
-  in.pic = sim.config_.transfer == TransferKind::apic;
+  // The share of the filtered grid velocity in the particle update (TransferKind).
+  in.pic_fraction = filtered_share();
+  if (sim.config_.transfer == TransferKind::xpic && sim.config_.xpic_order > 1) {
+    in.fvx = xpic_target[0].data();
+    in.fvy = xpic_target[1].data();
+    in.fvz = xpic_target[2].data();
+  }
   const double* mass = P.col(Field::mass).data();
   const double half_dt_prev = 0.5 * sim.clock_.dt_prev;
   const Vec3 g = sim.config_.gravity;

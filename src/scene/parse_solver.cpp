@@ -11,7 +11,7 @@ namespace {
 
 const std::vector<std::string> kMethods = {"mpm", "sph"};
 const std::vector<std::string> kShapes = {"linear", "ugimp", "bspline2"};
-const std::vector<std::string> kTransfers = {"flip", "apic"};
+const std::vector<std::string> kTransfers = {"flip", "apic", "xpic"};
 const std::vector<std::string> kPlanes = {"none", "x", "y", "z"};
 const std::vector<std::string> kBoundaries = {"none", "fixed", "slip", "symmetry", "outflow"};
 const std::vector<std::string> kContacts = {"single_field", "multi_field"};
@@ -33,7 +33,7 @@ void read_solver(Reader& root, Scene& scene) {
   Reader r(*t, "solver");
   r.allow({"method", "shape", "transfer", "cell_size", "cfl", "end_time", "dt_max", "dt_min",
            "gravity", "symmetry_plane", "reorder_interval", "viscosity", "sph", "contact",
-           "friction", "contact_pair", "dt_floor_ratio"});
+           "friction", "contact_pair", "dt_floor_ratio", "pic_fraction", "xpic_order"});
   r.reject_unknown();
 
   SolverConfig& c = scene.solver;
@@ -43,7 +43,26 @@ void read_solver(Reader& root, Scene& scene) {
                                : ShapeKind::bspline2;
   // flip: the paper's MUSL step; apic: affine PIC (see TransferKind in engine/config.hpp).
   const std::string transfer = r.choice("transfer", "flip", kTransfers);
-  c.transfer = transfer == "flip" ? TransferKind::flip : TransferKind::apic;
+  c.transfer = transfer == "flip"   ? TransferKind::flip
+               : transfer == "apic" ? TransferKind::apic
+                                    : TransferKind::xpic;
+  // FLIP/PIC blend fraction (flip only) and XPIC order (xpic only); TransferKind says what each
+  // does. The blend is read only when given, so scenes without it resolve as before.
+  if (auto f = r.optional_number("pic_fraction")) {
+    if (c.transfer != TransferKind::flip)
+      r.fail("pic_fraction", "applies only with solver.transfer = \"flip\"");
+    if (!(*f >= 0.0 && *f <= 1.0))
+      r.fail("pic_fraction", fmt::format("must be in [0, 1] (got {})", *f));
+    c.pic_fraction = *f;
+  }
+  if (c.transfer == TransferKind::xpic) {
+    const auto order = r.integer("xpic_order", c.xpic_order);
+    if (order < 1 || order > 32)
+      r.fail("xpic_order", fmt::format("must be an integer in [1, 32] (got {})", order));
+    c.xpic_order = static_cast<int>(order);
+  } else if (r.has("xpic_order")) {
+    r.fail("xpic_order", "applies only with solver.transfer = \"xpic\"");
+  }
   c.cell_size = r.positive("cell_size", r.number("cell_size"));
   r.within("cell_size", c.cell_size, ranges::kMinLength, ranges::kMaxLength, "m",
            ranges::kLengthReason);

@@ -46,6 +46,8 @@ SolverConfig column_config(const RunSettings& run, double h) {
   SolverConfig cfg;
   cfg.shape = run.shape;
   cfg.transfer = run.transfer;
+  cfg.pic_fraction = run.pic_fraction;
+  cfg.xpic_order = run.xpic_order;
   cfg.cell_size = h;
   cfg.cfl = run.cfl;
   cfg.domain = detail::column_domain(h);

@@ -63,8 +63,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> problems{"bar", "mms"};
   int threads = 1;
   double periods = sv::VibratingBar{}.periods;
+  double bar_v0 = sv::VibratingBar{}.v0;
   std::string wall = "fixed";
   std::string transfer = "flip";
+  double pic_fraction = 0.0;
+  int xpic_order = 5;
+  double cfl = 0.3;
   bool append = false;
   app.add_option("-o,--output", out, "CSV file to write");
   app.add_option("--shapes", shapes, "shape functions")->capture_default_str();
@@ -75,11 +79,24 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--bar-periods", periods, "vibrating bar run time in periods")
       ->capture_default_str();
+  app.add_option("--bar-v0", bar_v0,
+                 "vibrating bar velocity amplitude (m/s); the strain amplitude is v0 / c")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--wall", wall, "condition at the clamped ends: fixed or symmetry")
       ->check(CLI::IsMember({"fixed", "symmetry"}))
       ->capture_default_str();
-  app.add_option("--transfer", transfer, "particle-grid velocity transfer: flip or apic")
-      ->check(CLI::IsMember({"flip", "apic"}))
+  app.add_option("--transfer", transfer, "particle-grid velocity transfer: flip, apic or xpic")
+      ->check(CLI::IsMember({"flip", "apic", "xpic"}))
+      ->capture_default_str();
+  app.add_option("--pic-fraction", pic_fraction, "FLIP/PIC blend: share of PIC (flip only)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--xpic-order", xpic_order, "XPIC order m (xpic only)")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  app.add_option("--cfl", cfl, "Courant number (Eq. 34)")
+      ->check(CLI::Range(1e-3, 1.0))
       ->capture_default_str();
   app.add_flag("--append", append, "append rows to the CSV instead of rewriting it");
   app.add_option("-t,--threads", threads, "worker threads per run")->capture_default_str();
@@ -108,19 +125,32 @@ int main(int argc, char** argv) {
     rows.push_back(r);
   };
   // Runs with mirrored walls are a different problem set-up: name them apart in the table.
-  // So are runs with APIC transfers.
-  const std::string suffix =
-      std::string(wall == "fixed" ? "" : "_symwall") + (transfer == "flip" ? "" : "_apic");
-  const auto transfer_kind =
-      transfer == "flip" ? shatter::TransferKind::flip : shatter::TransferKind::apic;
+  // So are runs with other transfers: _apic, _pic0.05 (FLIP/PIC blend), _xpic5 (XPIC order 5).
+  std::string scheme;
+  if (transfer == "apic") scheme = "_apic";
+  if (transfer == "flip" && pic_fraction > 0.0) scheme = fmt::format("_pic{:g}", pic_fraction);
+  if (transfer == "xpic") scheme = fmt::format("_xpic{}", xpic_order);
+  if (cfl != 0.3) scheme += fmt::format("_cfl{:g}", cfl);
+  if (bar_v0 != sv::VibratingBar{}.v0) scheme += fmt::format("_v0_{:g}", bar_v0);
+  const std::string suffix = std::string(wall == "fixed" ? "" : "_symwall") + scheme;
+  const auto transfer_kind = transfer == "flip"   ? shatter::TransferKind::flip
+                             : transfer == "apic" ? shatter::TransferKind::apic
+                                                  : shatter::TransferKind::xpic;
+  auto settings = [&](int n, ShapeKind k) {
+    sv::RunSettings s{n, k, threads, cfl, transfer_kind};
+    s.pic_fraction = transfer == "flip" ? pic_fraction : 0.0;
+    s.xpic_order = xpic_order;
+    return s;
+  };
   for (const auto& p : problems) {
     for (const ShapeKind k : kinds) {
       if (p == "bar") {
         sv::VibratingBar bar;
         bar.periods = periods;
+        bar.v0 = bar_v0;
         bar.wall = wall_kind;
         for (const int n : bar_cells) {
-          const sv::BarErrors e = sv::run_vibrating_bar(bar, {n, k, threads, 0.3, transfer_kind});
+          const sv::BarErrors e = sv::run_vibrating_bar(bar, settings(n, k));
           report({"bar_displacement" + suffix, k, n, e.cell_size, e.displacement_l2, e.wall_s,
                   e.steps, e.particles});
           report({"bar_com_velocity" + suffix, k, n, e.cell_size, e.com_velocity_rms, e.wall_s,
@@ -132,8 +162,7 @@ int main(int argc, char** argv) {
           mms.amplitude = G;
           mms.wall = wall_kind;
           for (const int n : mms_cells) {
-            const sv::MmsErrors e =
-                sv::run_manufactured_solution(mms, {n, k, threads, 0.3, transfer_kind});
+            const sv::MmsErrors e = sv::run_manufactured_solution(mms, settings(n, k));
             // Relative to G so that the two amplitudes share one axis.
             report({name + suffix, k, n, e.cell_size, e.displacement_l2 / G, e.wall_s, e.steps,
                     e.particles});

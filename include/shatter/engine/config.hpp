@@ -34,9 +34,18 @@ constexpr std::string_view name_of(ShapeKind s) {
 //         affine part of the field that plain PIC would smooth away. Filters the noise, keeps
 //         momentum exact; needs no remap (the grid velocity is already the particles'), so the
 //         step has one transfer pass fewer, at 72 bytes per particle for C_p.
-enum class TransferKind : std::uint8_t { flip, apic };
+//  xpic - extended PIC of order m (Hammerquist & Nairn 2017, "A new method for material point
+//         method particle updates that reduces noise and enhances stability", Comput. Methods
+//         Appl. Mech. Engrg. 318, 724-738): the particle takes S (V*_m + a dt), where
+//         V*_m = sum_{k=1..m} (-1)^{k+1} C(m,k) (S+ S)^{k-1} V^L is the lumped grid velocity
+//         with the PIC filter's null-space projection applied m times (m - 1 extra
+//         grid-particle-grid passes per step). XPIC(1) is PIC; m -> infinity is FLIP with the
+//         null-space noise removed. SolverConfig::xpic_order sets m.
+// FLIP also takes SolverConfig::pic_fraction: v_p <- (1 - f) (v_p + S a dt) + f S v^{n+1}, the
+// FLIP/PIC blend (Stomakhin et al. 2013 use f = 0.05); f = 0 is the paper's FLIP, bitwise.
+enum class TransferKind : std::uint8_t { flip, apic, xpic };
 constexpr std::string_view name_of(TransferKind t) {
-  return t == TransferKind::flip ? "flip" : "apic";
+  return t == TransferKind::flip ? "flip" : t == TransferKind::apic ? "apic" : "xpic";
 }
 
 // How bodies meet on the grid (docs/architecture.md "Contact").
@@ -104,6 +113,11 @@ struct Domain {
 struct SolverConfig {
   ShapeKind shape = ShapeKind::ugimp;
   TransferKind transfer = TransferKind::flip;
+  // FLIP only: fraction of PIC velocity blended into the particle update, in [0, 1].
+  double pic_fraction = 0.0;
+  // XPIC only: the order m in [1, 32] (1 = PIC); 5 is the authors' suggested balance of
+  // filtering and cost (m - 1 extra passes per step). Ignored by the other transfers.
+  int xpic_order = 5;
   double cell_size = 0.0;  // h, edge of a grid cell (the paper's d_c)
   // Eq. 34 allows CFL 1; 0.3 leaves room for the sound speed growing within one step in shocks.
   double cfl = 0.3;

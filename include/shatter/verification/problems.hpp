@@ -70,6 +70,8 @@ struct RunSettings {
   int threads = 1;
   double cfl = 0.3;
   TransferKind transfer = TransferKind::flip;
+  double pic_fraction = 0.0;  // SolverConfig::pic_fraction (flip only)
+  int xpic_order = 5;         // SolverConfig::xpic_order (xpic only)
 };
 
 struct BarErrors {

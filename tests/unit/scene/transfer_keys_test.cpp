@@ -1,0 +1,67 @@
+// The transfer keys of [solver] (issue 16): solver.transfer = "xpic" with solver.xpic_order, and
+// solver.pic_fraction for the FLIP/PIC blend; defaults, and errors that name the key.
+
+#include <gtest/gtest.h>
+
+#include "scene_fixture.hpp"
+
+namespace shatter::scene {
+namespace {
+
+using test::error_of;
+using test::expect_names;
+using test::kTinyScene;
+using test::line_of;
+using test::parse;
+using test::with;
+
+const std::string kSolverLine = "symmetry_plane = \"z\"";
+
+std::string solver_with(const std::string& lines) {
+  return with(kSolverLine, kSolverLine + "\n" + lines);
+}
+
+TEST(TransferKeys, DefaultIsPlainFlipAndResolvesWithoutTheNewKeys) {
+  const Scene s = parse(kTinyScene);
+  EXPECT_EQ(s.solver.transfer, TransferKind::flip);
+  EXPECT_EQ(s.solver.pic_fraction, 0.0);
+  // Scenes that do not use the blend resolve as before (no new keys written back).
+  EXPECT_EQ(s.resolved.find("pic_fraction"), std::string::npos) << s.resolved;
+  EXPECT_EQ(s.resolved.find("xpic_order"), std::string::npos) << s.resolved;
+}
+
+TEST(TransferKeys, XpicTakesItsOrderAndDefaultsToFive) {
+  const Scene s = parse(solver_with("transfer = \"xpic\"\nxpic_order = 3"));
+  EXPECT_EQ(s.solver.transfer, TransferKind::xpic);
+  EXPECT_EQ(s.solver.xpic_order, 3);
+  const Scene d = parse(solver_with("transfer = \"xpic\""));
+  EXPECT_EQ(d.solver.xpic_order, 5);
+  EXPECT_NE(d.resolved.find("xpic_order = 5"), std::string::npos) << d.resolved;
+  const Scene f = parse(solver_with("pic_fraction = 0.05"));
+  EXPECT_EQ(f.solver.transfer, TransferKind::flip);
+  EXPECT_EQ(f.solver.pic_fraction, 0.05);
+}
+
+TEST(TransferKeys, OutOfRangeOrMisplacedKeysNameTheKey) {
+  for (const std::string& lines :
+       {std::string("pic_fraction = 1.5"), std::string("pic_fraction = -0.1"),
+        std::string("transfer = \"xpic\"\npic_fraction = 0.5"),
+        std::string("transfer = \"apic\"\npic_fraction = 0.5")}) {
+    const std::string text = solver_with(lines);
+    expect_names(error_of(text), line_of(text, "pic_fraction"), "solver.pic_fraction");
+  }
+  for (const std::string& lines :
+       {std::string("transfer = \"xpic\"\nxpic_order = 0"),
+        std::string("transfer = \"xpic\"\nxpic_order = 33"),
+        std::string("transfer = \"xpic\"\nxpic_order = 2.5"), std::string("xpic_order = 3")}) {
+    const std::string text = solver_with(lines);
+    expect_names(error_of(text), line_of(text, "xpic_order"), "solver.xpic_order");
+  }
+  const std::string unknown = solver_with("transfer = \"xpik\"");
+  const std::string msg = error_of(unknown);
+  expect_names(msg, line_of(unknown, "transfer"), "solver.transfer");
+  EXPECT_NE(msg.find("xpic"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace shatter::scene
