@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+namespace shatter::scene {
+struct RunEstimate;
+}
+
 namespace shatter::cli {
 
 enum ExitCode : int {
@@ -13,6 +17,7 @@ enum ExitCode : int {
   kFailure = 1,    // unexpected error (I/O, internal)
   kBadInput = 2,   // scene, command line or input file refused
   kNumerical = 3,  // the state stopped being finite or the time step collapsed
+  // 128 + N: stopped by signal N (SIGINT 130, SIGTERM 143) after writing a checkpoint
 };
 
 struct RunOptions {
@@ -25,12 +30,18 @@ struct RunOptions {
 
 int run_command(const std::filesystem::path& scene_file, const RunOptions& options);
 int resume_command(const std::filesystem::path& checkpoint, const RunOptions& options);
+// `shatter check`: validates the scene and prints points, memory, steps and run time, without
+// creating the particles. Exit 2 when the scene is invalid or larger than the memory available.
+int check_command(const std::filesystem::path& scene_file, const RunOptions& options);
 
 struct FragmentOptions {
   std::optional<double> threshold;
   std::optional<std::string> method;
   std::optional<std::filesystem::path> prefix;  // output files: PREFIX.csv, .h5, .pkdgrav
 };
+// Why a run of this size cannot fit in the memory available now, or none if it can.
+std::optional<std::string> too_large_for_memory(const scene::RunEstimate& e);
+
 int fragments_command(const std::filesystem::path& snapshot, const FragmentOptions& options);
 
 // `shatter material`: the material probe (include/shatter/material/probe.hpp). Lists of numbers

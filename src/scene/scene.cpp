@@ -39,11 +39,12 @@ const std::vector<std::string> kDefaultColumns = {"x",
                                                   "body"};
 
 Scene parse(toml::table doc, const std::string& source, const std::vector<std::string>& overrides,
-            const std::filesystem::path& base_dir) {
+            const std::filesystem::path& base_dir, Points points) {
   for (const auto& o : overrides) apply_override(doc, o);
 
   Scene scene;
   scene.source = source;
+  scene.base_dir = base_dir;
   Reader root(doc, "", source);
   root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact", "fracture",
               "output"});
@@ -108,7 +109,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   }
   if (impact) apply_impact(*impact, scene);
   resolve_contact_pairs(scene);
-  fill_and_check_bodies(scene);
+  if (points == Points::fill) fill_and_check_bodies(scene);
   read_output(root, scene);
   scene.resolved = to_toml(doc);
   return scene;
@@ -199,14 +200,19 @@ void read_output(Reader& root, Scene& scene) {
   }
 }
 
-Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
-  return parse(load_document(file), file.string(), overrides, file.parent_path());
+void fill_bodies(Scene& scene) {
+  fill_and_check_bodies(scene);
+}
+
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                 Points points) {
+  return parse(load_document(file), file.string(), overrides, file.parent_path(), points);
 }
 
 Scene parse_scene(std::string_view text, const std::string& source,
-                  const std::vector<std::string>& overrides,
-                  const std::filesystem::path& base_dir) {
-  return parse(parse_document(text, source, base_dir), source, overrides, base_dir);
+                  const std::vector<std::string>& overrides, const std::filesystem::path& base_dir,
+                  Points points) {
+  return parse(parse_document(text, source, base_dir), source, overrides, base_dir, points);
 }
 
 }  // namespace shatter::scene
