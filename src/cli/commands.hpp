@@ -39,6 +39,12 @@ struct FragmentOptions {
   std::optional<std::string> method;
   std::optional<std::filesystem::path> prefix;  // output files: PREFIX.csv, .h5, .pkdgrav
 };
+// `shatter scene-reference`: the key tables of docs/scenes.md from the scene reader, run over
+// the scenes under `roots` (default: scenes/); printed, or written between the markers of the
+// file `write`. Exit 2 when an allowed key is read by no example scene.
+int reference_command(const std::vector<std::filesystem::path>& roots,
+                      const std::optional<std::filesystem::path>& write);
+
 // Why a run of this size cannot fit in the memory available now, or none if it can.
 std::optional<std::string> too_large_for_memory(const scene::RunEstimate& e);
 

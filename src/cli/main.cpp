@@ -98,6 +98,15 @@ int main(int argc, char** argv) {
       ->take_all();
   check->add_flag("--quiet", quiet, "only warnings and errors");
 
+  std::vector<std::string> reference_roots;
+  std::string reference_write;
+  CLI::App* reference = app.add_subcommand(
+      "scene-reference", "print the scene key reference (docs/scenes.md) from the scene reader");
+  reference->add_option("SCENES", reference_roots,
+                        "scene files or folders read to record the keys (default: scenes)");
+  auto* reference_write_opt = reference->add_option(
+      "--write", reference_write, "replace the generated section of this file (docs/scenes.md)");
+
   std::string checkpoint;
   CLI::App* resume = app.add_subcommand("resume", "continue a run from its checkpoint");
   resume->add_option("CHECKPOINT", checkpoint, "checkpoint file (run directory/checkpoint.h5)")
@@ -169,6 +178,11 @@ int main(int argc, char** argv) {
     if (run->parsed()) return run_command(scene_file, run_options);
     if (resume->parsed()) return resume_command(checkpoint, run_options);
     if (check->parsed()) return check_command(check_file, run_options);
+    if (reference->parsed()) {
+      std::optional<std::filesystem::path> write;
+      if (reference_write_opt->count() > 0) write = reference_write;
+      return reference_command({reference_roots.begin(), reference_roots.end()}, write);
+    }
     if (fragments->parsed()) {
       if (threshold_opt->count() > 0) fragment_options.threshold = threshold;
       if (method_opt->count() > 0) fragment_options.method = method;

@@ -9,8 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 namespace shatter::scene {
 namespace {

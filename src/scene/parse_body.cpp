@@ -49,6 +49,7 @@ Mesh read_mesh_shape(Reader& r, const std::filesystem::path& base_dir) {
   const std::filesystem::path file =
       std::filesystem::absolute(base_dir / std::filesystem::path(r.string("file")));
   const double scale = r.positive("scale", r.number("scale", 1.0));
+  r.note_range("scale", "", "m per mesh unit");
   const Vec3 angles = r.vec3("rotation", Vec3::Zero());
   r.within("rotation", angles.cwiseAbs().maxCoeff(), 0.0, 360.0, "degrees (|angle|)",
            "a full turn");
@@ -131,6 +132,7 @@ Shape read_shape(Reader& r, bool placed_by_impact, const std::filesystem::path& 
     shape.parts.push_back(read_primitive(r, kind, placed_by_impact, base_dir));
     return shape;
   }
+  r.note_type("parts", "array of tables (shape and its keys)");
   const toml::node* parts = r.table().get("parts");
   if (parts == nullptr) r.fail("parts", "is required for a union (an array of shape tables)");
   const auto* array = parts->as_array();
@@ -161,6 +163,7 @@ std::string key_named_in(const std::string& message, const toml::table& table) {
 }
 
 MaterialSpec read_material(Reader& body, const MaterialCatalogue& catalogue) {
+  body.note_type("material", "string or table");
   const toml::node* n = body.table().get("material");
   if (n == nullptr) body.fail("material", "is required but missing (a catalogue name)");
   toml::table* overrides = n->is_table() ? body.subtable("material") : nullptr;
@@ -226,10 +229,13 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   if (r.has("spacing") && r.has("points_per_cell")) {
     r.fail("points_per_cell", "give spacing or points_per_cell, not both");
   }
+  r.note_default("spacing", "cell_size / points_per_cell");
+  r.note_range("spacing", "not with points_per_cell");
   if (r.has("spacing")) {
     b.spacing = size(r, "spacing", r.number("spacing"));
   } else {
     const auto ppc = r.integer("points_per_cell", 2);
+    r.note_range("points_per_cell", ">= 1; spacing = cell_size / points_per_cell");
     if (ppc < 1) r.fail("points_per_cell", fmt::format("must be >= 1 (got {})", ppc));
     b.spacing = scene.solver.cell_size / static_cast<double>(ppc);
   }
@@ -250,6 +256,7 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   }
 
   // Mass given: the density changes, the volume stays (MPM paper Table 2, projectile mass).
+  r.note_range("mass", "", "kg");
   if (auto mass = r.optional_number("mass")) {
     r.positive("mass", *mass);
     const double v = b.shape.exact_volume().value_or(fill_lattice(b.shape, b.spacing).volume);

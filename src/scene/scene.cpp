@@ -50,6 +50,9 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
               "output"});
   root.reject_unknown();
   scene.name = root.string("name", std::filesystem::path(source).stem().string());
+  root.note_default("name", "the file name without .toml");
+  root.note_default("body", "*required*");
+  root.note_type("body", "table of [body.NAME] tables");
   scene.description = root.string("description", "-");
 
   MaterialCatalogue catalogue = MaterialCatalogue::builtin();
@@ -133,9 +136,11 @@ void read_fracture(Reader& root, Scene& scene) {
   r.allow({"seed", "threshold", "fragment_method", "fragment_cell"});
   r.reject_unknown();
   const auto seed = r.integer("seed", 1);
+  r.note_range("seed", ">= 0");
   if (seed < 0) r.fail("seed", "must be >= 0");
   scene.fracture.seed = static_cast<std::uint64_t>(seed);
   scene.fracture.threshold = r.number("threshold", 0.9);
+  r.note_range("threshold", "(0, 1]", "damage");
   if (!(scene.fracture.threshold > 0.0 && scene.fracture.threshold <= 1.0)) {
     r.fail("threshold", fmt::format("must be in (0, 1] (got {})", scene.fracture.threshold));
   }
@@ -143,6 +148,7 @@ void read_fracture(Reader& root, Scene& scene) {
       r.choice("fragment_method", "grid_density", {"grid_density", "friends_of_friends"});
   scene.fracture.search.damage_threshold = scene.fracture.threshold;
   scene.fracture.search.cell_size = r.non_negative("fragment_cell", r.number("fragment_cell", 0.0));
+  r.note_range("fragment_cell", "0 = twice the mean point spacing", "m");
 }
 
 void read_output(Reader& root, Scene& scene) {
@@ -157,6 +163,10 @@ void read_output(Reader& root, Scene& scene) {
   r.reject_unknown();
   OutputSpec& o = scene.output;
   o.directory = r.string("directory", "out/" + scene.name);
+  r.note_default("directory", "`\"out/NAME\"` (NAME: the scene's name)");
+  r.note_default("snapshot_every", "end_time / 10");
+  r.note_range("snapshot_every", "0 = first and last only", "s");
+  r.note_range("checkpoint_every", "0 = at the end only", "s");
   o.snapshot_every =
       r.non_negative("snapshot_every", r.number("snapshot_every", scene.end_time / 10));
   o.checkpoint_every = r.non_negative("checkpoint_every", r.number("checkpoint_every", 0.0));
@@ -170,11 +180,17 @@ void read_output(Reader& root, Scene& scene) {
     }
   }
   o.timeseries_every = r.integer("timeseries_every", 10);
+  r.note_range("timeseries_every", ">= 1", "steps");
+  r.note_range("progress_every", "", "s (wall clock)");
   if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");
   o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));
   o.fragments = r.boolean("fragments", true);
 
+  r.note_type("columns", "\"default\", \"all\" or array of column names");
   const toml::node* c = r.table().get("columns");
+  r.note_default("columns",
+                 "`\"default\"` (positions, velocities, mass, volume0, rho, energy, pressure, "
+                 "damage, plastic_strain, stress, id, body)");
   if (c == nullptr || (c->is_string() && c->as_string()->get() == "default")) {
     o.columns = kDefaultColumns;
     if (c == nullptr) r.table().insert("columns", "default");

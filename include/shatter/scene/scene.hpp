@@ -2,7 +2,8 @@
 // A scene: bodies (geometry, material, velocity, spacing), solver settings, damage, output. Read
 // from TOML; every key is checked and an error names the file, line and key (SceneError).
 //
-// File layout (scenes/*.toml are the worked examples):
+// File layout (scenes/*.toml are the worked examples; docs/scenes.md lists every key, generated
+// from the reader by `shatter scene-reference`):
 //   name, description          text
 //   extends = "base.toml"      start from another scene and override it
 //   catalogue = "file.toml"    material catalogue (default: the one shipped, data/materials.toml)
@@ -11,7 +12,8 @@
 //                              friction, [[solver.contact_pair]], [solver.viscosity],
 //                              [solver.sph] (h_factor, alpha, beta)
 //   [domain]                   lo, hi, boundary, x_lo, x_hi, y_lo, y_hi, z_lo, z_hi
-//   [body.NAME]                shape + its keys, material, velocity, spacing, points_per_cell,
+//   [body.NAME]                shape (sphere, ellipsoid, box, cylinder, mesh, union) + its keys,
+//                              material, velocity, spacing, points_per_cell,
 //                              energy, mass, [body.NAME.damage]
 //   [impact]                   projectile, target, speed, angle, direction, offset, gap
 //   [fracture]                 seed, threshold, fragment_method, fragment_cell
