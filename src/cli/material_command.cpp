@@ -193,6 +193,9 @@ int material_command(const MaterialOptions& o) {
     const MaterialCatalogue cat =
         o.catalogue ? MaterialCatalogue::load(*o.catalogue) : MaterialCatalogue::builtin();
     if (o.list) {
+      // Which file: an installed shatter finds its own (MaterialCatalogue::builtin_path).
+      spdlog::info("catalogue {}",
+                   (o.catalogue ? *o.catalogue : MaterialCatalogue::builtin_path()).string());
       write_list(out, cat, o.csv);
       return kOk;
     }
