@@ -81,7 +81,14 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
     }
     // The size of the run is checked before any point is created: a scene larger than the
     // machine is refused with its size instead of dying in std::bad_alloc.
-    if (auto refusal = too_large_for_memory(scene::estimate_run(s, scene::estimate_points(s)))) {
+    // An estimate that cannot be made (a solver setting refused) leaves the refusal to the
+    // set-up below, which names the cause.
+    std::optional<scene::RunEstimate> estimate;
+    try {
+      estimate = scene::estimate_run(s, scene::estimate_points(s));
+    } catch (const std::invalid_argument&) {
+    }
+    if (auto refusal = estimate ? too_large_for_memory(*estimate) : std::nullopt) {
       spdlog::error("{}: {} (shatter check {} prints the estimate)", scene_file.string(), *refusal,
                     scene_file.string());
       return kBadInput;

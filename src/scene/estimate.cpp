@@ -1,5 +1,6 @@
 #include "shatter/scene/estimate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -99,6 +100,13 @@ RunEstimate estimate_run(const Scene& scene, std::vector<BodyEstimate> bodies) {
     Vec3 p = 0.5 * (bb.lo + bb.hi);
     if (scene.symmetry_axis >= 0) {
       p[scene.symmetry_axis] = std::max(p[scene.symmetry_axis], 0.5 * b.spacing);
+    }
+    // Inside the domain (the bodies are checked against it when they are filled).
+    const Domain& d = scene.solver.domain;
+    for (int a = 0; a < 3; ++a) {
+      if (std::isfinite(d.lo[a]) && std::isfinite(d.hi[a]) && d.hi[a] - d.lo[a] > b.spacing) {
+        p[a] = std::clamp(p[a], d.lo[a] + 0.5 * b.spacing, d.hi[a] - 0.5 * b.spacing);
+      }
     }
     b.fill.points = {p};
     b.fill.volume = b.spacing * b.spacing * b.spacing;
