@@ -17,6 +17,7 @@
 #include <toml++/toml.h>
 
 #include "shatter/material/catalogue.hpp"
+#include "shatter/material/catalogue_path.hpp"
 
 #ifndef SHATTER_SOURCE_DIR
 #error "SHATTER_SOURCE_DIR must be defined (the build defines it for area libraries)"
@@ -96,7 +97,7 @@ MaterialCatalogue MaterialCatalogue::load(const std::filesystem::path& file) {
   return cat;
 }
 
-std::filesystem::path MaterialCatalogue::builtin_path() {
+std::filesystem::path builtin_catalogue_path() {
   namespace fs = std::filesystem;
   std::error_code ec;
   // An explicit setting wins, and a wrong one is an error rather than silently passed over.
@@ -125,7 +126,7 @@ std::filesystem::path MaterialCatalogue::builtin_path() {
 }
 
 MaterialCatalogue MaterialCatalogue::builtin() {
-  return load(builtin_path());
+  return load(builtin_catalogue_path());
 }
 
 const MaterialSpec& MaterialCatalogue::get(std::string_view name) const {

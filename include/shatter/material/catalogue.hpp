@@ -42,13 +42,8 @@ class MaterialCatalogue {
  public:
   // Parses and validates a catalogue file; errors name the file, line and key.
   static MaterialCatalogue load(const std::filesystem::path& file);
-  // The catalogue shipped in data/materials.toml, from builtin_path().
+  // The catalogue shipped in data/materials.toml.
   static MaterialCatalogue builtin();
-  // Where the shipped catalogue is: $SHATTER_DATA_DIR/materials.toml when that variable is set;
-  // else share/shatter/materials.toml beside the running program's bin/ (an installed shatter,
-  // `cmake --install`); else the source tree's data/materials.toml (a build tree). Throws
-  // std::invalid_argument naming the places tried when none exists.
-  static std::filesystem::path builtin_path();
 
   const MaterialSpec& get(std::string_view name) const;  // throws listing the known names
   bool contains(std::string_view name) const;
