@@ -92,8 +92,26 @@ RunEstimate estimate_run(const Scene& scene, std::vector<BodyEstimate> bodies) {
   e.bodies = std::move(bodies);
   for (const auto& b : e.bodies) e.points += b.points;
 
-  // One point per body, in the body's initial state; flaws are left out (they do not change the
-  // sound speed, and drawing a body's flaws for one point would be meaningless).
+  // The flaw count must cover every point (MPM paper Sec. 3.3: each point draws from n_tot
+  // flaws); build() refuses it otherwise, after the fill. A body cut by the symmetry plane draws
+  // for both halves (build.cpp, flaw_copies).
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const BodySpec& b = scene.bodies[i];
+    if (!b.flaws || b.flaws->scheme != "resolution_independent") continue;
+    const int a = scene.symmetry_axis;
+    const double copies = a >= 0 && b.shape.bounds().lo[a] < b.spacing ? 2.0 : 1.0;
+    const double n_p = copies * e.bodies[i].points;
+    if (b.flaws->total_flaws < n_p) {
+      throw SceneError(b.where, "body." + b.name + ".damage.total_flaws",
+                       fmt::format("= {:g} is below the body's {:.4g} points{} (each point draws "
+                                   "its flaws from them, MPM paper Sec. 3.3)",
+                                   b.flaws->total_flaws, n_p,
+                                   copies > 1.0 ? " (both halves of the half model)" : ""));
+    }
+  }
+
+  // One point per body, in the body's initial state (its flaws drawn for that one point check
+  // the flaw parameters).
   Scene sample = scene;
   for (BodySpec& b : sample.bodies) {
     const Bounds bb = b.shape.bounds();
@@ -110,7 +128,6 @@ RunEstimate estimate_run(const Scene& scene, std::vector<BodyEstimate> bodies) {
     }
     b.fill.points = {p};
     b.fill.volume = b.spacing * b.spacing * b.spacing;
-    b.flaws.reset();
   }
   BuiltScene built = build(sample);
   const auto solver = make_solver(sample, std::move(built.particles), built.materials, 1);

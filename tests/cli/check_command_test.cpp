@@ -109,6 +109,21 @@ TEST_F(Cli, RunRefusesASceneLargerThanTheMachineBeforeCreatingItsPoints) {
   EXPECT_NE(c.out.find("~2.73e+08"), std::string::npos) << c.out;
 }
 
+TEST_F(Cli, CheckRefusesFlawParametersTheRunWouldRefuse) {
+  // 2112 target points x 2 (the half model draws for both halves) need >= 4224 flaws.
+  const Result few = shatter({"check", kTiny.string(), "--set", "body.target.damage.weibull_m=3.0",
+                              "--set", "body.target.damage.total_flaws=4000"});
+  EXPECT_EQ(few.code, 2) << few.out;
+  EXPECT_NE(few.err.find("body.target.damage.total_flaws: = 4000 is below the body's 4224 points"),
+            std::string::npos)
+      << few.err;
+  // n_tot must exceed 10^m (MPM paper Sec. 3.3), checked by drawing the flaws of one point.
+  const Result low =
+      shatter({"check", kTiny.string(), "--set", "body.target.damage.weibull_m=12.0"});
+  EXPECT_EQ(low.code, 2) << low.out;
+  EXPECT_NE(low.err.find("total_flaws > 10^m"), std::string::npos) << low.err;
+}
+
 TEST_F(Cli, MemoryLimitFromTheEnvironmentIsHonoured) {
   const Result r =
       shatter({"run", kTiny.string(), "--out", (dir_ / "o").string()}, "SHATTER_MEMORY_LIMIT=1e6");
