@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+namespace shatter::scene {
+struct RunEstimate;
+}
+
 namespace shatter::cli {
 
 enum ExitCode : int {
@@ -13,6 +17,7 @@ enum ExitCode : int {
   kFailure = 1,    // unexpected error (I/O, internal)
   kBadInput = 2,   // scene, command line or input file refused
   kNumerical = 3,  // the state stopped being finite or the time step collapsed
+  // 128 + N: stopped by signal N (SIGINT 130, SIGTERM 143) after writing a checkpoint
 };
 
 struct RunOptions {
@@ -25,6 +30,9 @@ struct RunOptions {
 
 int run_command(const std::filesystem::path& scene_file, const RunOptions& options);
 int resume_command(const std::filesystem::path& checkpoint, const RunOptions& options);
+// `shatter check`: validates the scene and prints points, memory, steps and run time, without
+// creating the particles. Exit 2 when the scene is invalid or larger than the memory available.
+int check_command(const std::filesystem::path& scene_file, const RunOptions& options);
 
 struct FragmentOptions {
   std::optional<double> threshold;
@@ -35,6 +43,15 @@ struct FragmentOptions {
   std::optional<double> smoothing_factor;
   std::optional<double> static_strength;
 };
+// `shatter scene-reference`: the key tables of docs/scenes.md from the scene reader, run over
+// the scenes under `roots` (default: scenes/); printed, or written between the markers of the
+// file `write`. Exit 2 when an allowed key is read by no example scene.
+int reference_command(const std::vector<std::filesystem::path>& roots,
+                      const std::optional<std::filesystem::path>& write);
+
+// Why a run of this size cannot fit in the memory available now, or none if it can.
+std::optional<std::string> too_large_for_memory(const scene::RunEstimate& e);
+
 int fragments_command(const std::filesystem::path& snapshot, const FragmentOptions& options);
 
 // `shatter material`: the material probe (include/shatter/material/probe.hpp). Lists of numbers

@@ -5,7 +5,13 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include "commands.hpp"
+#include "shatter/io/suggest.hpp"
 
 #ifndef SHATTER_VERSION
 #define SHATTER_VERSION "unknown"
@@ -27,6 +33,25 @@ void setup_logging(bool quiet, const std::string& log_file) {
   logger->set_level(spdlog::level::debug);
   logger->set_pattern("[%H:%M:%S] %^%l%$ %v");
   spdlog::set_default_logger(logger);
+}
+
+// " (did you mean 'run'?)" for a misspelt command: the command at the smallest edit distance,
+// counting a swap of two letters as one edit (rnu, chekc), within 2 edits or a third of the word.
+std::string nearest_command(const std::string& word, const std::vector<std::string>& names) {
+  std::string best;
+  std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
+  for (const auto& n : names) {
+    std::size_t d = shatter::io::edit_distance(word, n);
+    std::string a = word, b = n;
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    if (a == b) d = std::min<std::size_t>(d, 1);
+    if (d < best_d) {
+      best_d = d;
+      best = n;
+    }
+  }
+  return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
 }
 
 }  // namespace
@@ -62,6 +87,25 @@ int main(int argc, char** argv) {
       "--check", run_options.check,
       "check the scene and set the run up (points, materials), then stop; writes nothing");
   add_run_flags(run);
+
+  std::string check_file;
+  CLI::App* check = app.add_subcommand(
+      "check", "validate a scene and estimate its points, memory, steps and run time (no run)");
+  check->add_option("SCENE", check_file, "scene file (TOML)")->required();
+  check->add_option("--threads", run_options.threads, "threads the run-time estimate assumes")
+      ->check(CLI::Range(0, 4096));
+  check->add_option("--set", run_options.sets, "override a scene key: dotted.key=value")
+      ->take_all();
+  check->add_flag("--quiet", quiet, "only warnings and errors");
+
+  std::vector<std::string> reference_roots;
+  std::string reference_write;
+  CLI::App* reference = app.add_subcommand(
+      "scene-reference", "print the scene key reference (docs/scenes.md) from the scene reader");
+  reference->add_option("SCENES", reference_roots,
+                        "scene files or folders read to record the keys (default: scenes)");
+  auto* reference_write_opt = reference->add_option(
+      "--write", reference_write, "replace the generated section of this file (docs/scenes.md)");
 
   std::string checkpoint;
   CLI::App* resume = app.add_subcommand("resume", "continue a run from its checkpoint");
@@ -117,6 +161,18 @@ int main(int argc, char** argv) {
       material->add_option("--catalogue", material_catalogue, "catalogue file (TOML)");
   material->add_flag("--quiet", quiet, "only warnings and errors");
 
+  // A misspelt command gets the nearest one (CLI11 would only say that one is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      names.push_back(sub->get_name());
+    }
+    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      fmt::print(stderr, "unknown command '{}'{} (commands: {}; shatter --help describes them)\n",
+                 argv[1], nearest_command(argv[1], names), fmt::join(names, ", "));
+      return kBadInput;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -128,6 +184,12 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed()) return run_command(scene_file, run_options);
     if (resume->parsed()) return resume_command(checkpoint, run_options);
+    if (check->parsed()) return check_command(check_file, run_options);
+    if (reference->parsed()) {
+      std::optional<std::filesystem::path> write;
+      if (reference_write_opt->count() > 0) write = reference_write;
+      return reference_command({reference_roots.begin(), reference_roots.end()}, write);
+    }
     if (fragments->parsed()) {
       if (threshold_opt->count() > 0) fragment_options.threshold = threshold;
       if (method_opt->count() > 0) fragment_options.method = method;

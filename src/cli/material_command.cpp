@@ -21,6 +21,7 @@
 
 #include "commands.hpp"
 #include "shatter/material/catalogue.hpp"
+#include "shatter/material/catalogue_path.hpp"
 #include "shatter/material/probe.hpp"
 
 namespace shatter::cli {
@@ -193,6 +194,9 @@ int material_command(const MaterialOptions& o) {
     const MaterialCatalogue cat =
         o.catalogue ? MaterialCatalogue::load(*o.catalogue) : MaterialCatalogue::builtin();
     if (o.list) {
+      // Which file: an installed shatter finds its own (builtin_catalogue_path).
+      spdlog::info("catalogue {}",
+                   (o.catalogue ? *o.catalogue : builtin_catalogue_path()).string());
       write_list(out, cat, o.csv);
       return kOk;
     }

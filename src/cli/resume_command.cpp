@@ -29,6 +29,14 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
       return kBadInput;
     }
   }
+  if (std::filesystem::is_directory(file)) {
+    const auto inside = checkpoint_path(file);
+    spdlog::error("{} is a directory, not a checkpoint{}", file.string(),
+                  std::filesystem::exists(inside)
+                      ? fmt::format(" (its run's checkpoint: {})", inside.string())
+                      : "");
+    return kBadInput;
+  }
   io::Checkpoint c;
   scene::Scene s;
   std::vector<MaterialPtr> materials;
@@ -63,6 +71,13 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
   } else {
     spdlog::info("resuming {} from {} at t = {} s, step {} ({} points)", s.name, file.string(),
                  c.state.clock.time, c.state.clock.step, c.particles.size());
+  }
+
+  if (const std::string bad =
+          unusable_run_directory(out, options.out ? "--out" : "the checkpoint's directory");
+      !bad.empty()) {
+    spdlog::error("{}", bad);
+    return kBadInput;
   }
 
   std::unique_ptr<Solver> sim;

@@ -4,6 +4,7 @@
 #include "run_loop.hpp"
 #include "shatter/io/atomic_file.hpp"
 #include "shatter/scene/build.hpp"
+#include "shatter/scene/estimate.hpp"
 
 #ifndef SHATTER_VERSION
 #define SHATTER_VERSION "unknown"
@@ -58,8 +59,41 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
   // Everything that can refuse the input happens before the run directory is touched.
   scene::Scene s;
   scene::BuiltScene built;
+  // Checked before the scene is filled with points (which can take minutes for a large one).
+  auto refused_directory = [&]() -> std::optional<std::string> {
+    const std::filesystem::path out = options.out.value_or(s.output.directory);
+    if (options.check) return std::nullopt;
+    std::string bad = unusable_run_directory(out, options.out ? "--out" : "output.directory");
+    if (!bad.empty()) return bad;
+    if (std::filesystem::exists(out) && holds_a_run(out) && !options.overwrite) {
+      return fmt::format(
+          "{} already holds a run; pass --overwrite to replace it or --out for another "
+          "directory",
+          out.string());
+    }
+    return std::nullopt;
+  };
   try {
-    s = scene::load_scene(scene_file, options.sets);
+    s = scene::load_scene(scene_file, options.sets, scene::Points::defer);
+    if (auto bad = refused_directory()) {
+      spdlog::error("{}", *bad);
+      return kBadInput;
+    }
+    // The size of the run is checked before any point is created: a scene larger than the
+    // machine is refused with its size instead of dying in std::bad_alloc.
+    // An estimate that cannot be made (a solver setting refused) leaves the refusal to the
+    // set-up below, which names the cause.
+    std::optional<scene::RunEstimate> estimate;
+    try {
+      estimate = scene::estimate_run(s, scene::estimate_points(s));
+    } catch (const std::invalid_argument&) {
+    }
+    if (auto refusal = estimate ? too_large_for_memory(*estimate) : std::nullopt) {
+      spdlog::error("{}: {} (shatter check {} prints the estimate)", scene_file.string(), *refusal,
+                    scene_file.string());
+      return kBadInput;
+    }
+    scene::fill_bodies(s);
     built = scene::build(s);
   } catch (const scene::SceneError& e) {
     spdlog::error("{}", e.what());
@@ -69,13 +103,6 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
     return kBadInput;
   }
   const std::filesystem::path out = options.out.value_or(s.output.directory);
-  if (!options.check && std::filesystem::exists(out) && holds_a_run(out) && !options.overwrite) {
-    spdlog::error(
-        "{} already holds a run; pass --overwrite to replace it or --out for another "
-        "directory",
-        out.string());
-    return kBadInput;
-  }
 
   spdlog::info("scene {} ({}): {} points in {} bodies, end time {} s", s.name, scene_file.string(),
                s.particle_count(), s.bodies.size(), s.end_time);
@@ -97,7 +124,13 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
                  scene_file.string(), s.particle_count(), sim->clock().dt);
     return kOk;
   }
-  std::filesystem::create_directories(out);
+  try {
+    std::filesystem::create_directories(out);
+  } catch (const std::filesystem::filesystem_error& e) {
+    spdlog::error("{} {}: cannot create the run directory ({})",
+                  options.out ? "--out" : "output.directory", out.string(), e.code().message());
+    return kBadInput;
+  }
   if (options.overwrite) clear_run(out);
   io::write_text_atomically(out / "scene.toml",
                             resolved_header(scene_file, options.sets, s) + s.resolved);

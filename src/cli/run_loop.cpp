@@ -1,11 +1,15 @@
 #include "run_loop.hpp"
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstring>
 #include <limits>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include "commands.hpp"
 #include "fragments_report.hpp"
@@ -25,6 +29,47 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kNever = std::numeric_limits<double>::infinity();
+
+// The signal that asked the run to stop (SIGINT or SIGTERM), 0 while none did. The handler only
+// sets it: the run loop looks at it after each completed step, the one point where the state,
+// the energy accounts and the output schedule agree, and writes the checkpoint there.
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void request_stop(int sig) {
+  g_stop_signal = sig;
+}
+
+// Installs request_stop for SIGINT and SIGTERM for the life of the run, restoring the previous
+// handlers after. SA_RESETHAND: a second signal while the checkpoint is written takes the
+// default action (the checkpoint is written to a temporary file and renamed, so the previous
+// one stays valid).
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = request_stop;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+// Thrown out of the step loop when a stop signal arrived.
+struct Stopped {
+  int signal = 0;
+};
 
 class Runner {
  public:
@@ -84,6 +129,8 @@ class Runner {
       loop();
     } catch (const NumericalError& e) {
       return post_mortem(e);
+    } catch (const Stopped& s) {
+      return stopped(s.signal);
     }
     finish();
     return kOk;
@@ -110,6 +157,7 @@ class Runner {
           write_row();
         }
         progress();
+        if (g_stop_signal != 0) throw Stopped{g_stop_signal};
       }
       if (sim_.time() >= cursor_.next_snapshot_time) snapshot();
       if (sim_.time() >= cursor_.next_checkpoint_time) {
@@ -218,6 +266,27 @@ class Runner {
     steps_at_last_ = sim_.clock().step;
   }
 
+  // A stop signal: the state after the last completed step goes to the checkpoint, with the
+  // command that continues the run. Exit status 128 + signal, as a shell reports a killed job.
+  int stopped(int sig) {
+    const char* name = sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal";
+    spdlog::warn("{} received: stopping after step {} (t = {})", name, sim_.clock().step,
+                 format_time(sim_.time()));
+    try {
+      write_row();
+      checkpoint();
+      timeseries_->sync();
+    } catch (const std::exception& w) {
+      spdlog::error("could not write the checkpoint: {}", w.what());
+      return 128 + sig;
+    }
+    const auto cp = checkpoint_path(spec_.out);
+    spdlog::warn("stopped at t = {:.17g} s (step {}); checkpoint: {}", sim_.time(),
+                 sim_.clock().step, cp.string());
+    spdlog::warn("continue with: shatter resume {}", cp.string());
+    return 128 + sig;
+  }
+
   int post_mortem(const NumericalError& e) {
     const auto file = spec_.out / fmt::format("failed_step{}.h5", e.step());
     spdlog::error("numerical failure at step {} (t = {}), particle {}: {}", e.step(),
@@ -262,6 +331,29 @@ class Runner {
 
 }  // namespace
 
+std::string unusable_run_directory(const std::filesystem::path& out, const std::string& what) {
+  namespace fs = std::filesystem;
+  if (out.empty()) return fmt::format("{}: the run directory must not be empty", what);
+  std::error_code ec;
+  const auto status = fs::status(out, ec);
+  if (fs::exists(status) && !fs::is_directory(status)) {
+    return fmt::format("{} {}: exists and is not a directory", what, out.string());
+  }
+  // The directory itself, or the nearest existing folder above it, must let us create files.
+  fs::path probe = fs::absolute(out, ec);
+  while (!fs::exists(probe, ec) && probe.has_parent_path() && probe != probe.parent_path()) {
+    probe = probe.parent_path();
+  }
+  if (!fs::is_directory(probe, ec)) {
+    return fmt::format("{} {}: {} is not a directory", what, out.string(), probe.string());
+  }
+  if (::access(probe.c_str(), W_OK | X_OK) != 0) {
+    return fmt::format("{} {}: cannot write in {} ({})", what, out.string(), probe.string(),
+                       std::strerror(errno));
+  }
+  return {};
+}
+
 std::filesystem::path snapshot_dir(const std::filesystem::path& out) {
   return out / "snapshots";
 }
@@ -270,6 +362,7 @@ std::filesystem::path checkpoint_path(const std::filesystem::path& out) {
 }
 
 int run_loop(Solver& sim, const RunSpec& spec) {
+  const StopSignals signals;
   return Runner(sim, spec).run();
 }
 

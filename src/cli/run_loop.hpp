@@ -26,6 +26,11 @@ struct RunSpec {
 // Runs to the scene's end time; returns the exit status.
 int run_loop(Solver& sim, const RunSpec& spec);
 
+// Why `out` cannot be a run directory (an existing file, or a place this process may not create
+// or write in), naming `what` (e.g. "--out" or "output.directory"); empty when it can. Checked
+// before anything is written.
+std::string unusable_run_directory(const std::filesystem::path& out, const std::string& what);
+
 // Paths inside a run directory.
 std::filesystem::path snapshot_dir(const std::filesystem::path& out);
 std::filesystem::path checkpoint_path(const std::filesystem::path& out);

@@ -8,13 +8,16 @@
 //   rho0 = 2700.0           # every other key is a numeric parameter, SI units
 // Errors name the file, the line and the key.
 
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include "shatter/material/catalogue.hpp"
+#include "shatter/material/catalogue_path.hpp"
 
 #ifndef SHATTER_SOURCE_DIR
 #error "SHATTER_SOURCE_DIR must be defined (the build defines it for area libraries)"
@@ -94,8 +97,36 @@ MaterialCatalogue MaterialCatalogue::load(const std::filesystem::path& file) {
   return cat;
 }
 
+std::filesystem::path builtin_catalogue_path() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  // An explicit setting wins, and a wrong one is an error rather than silently passed over.
+  if (const char* dir = std::getenv("SHATTER_DATA_DIR"); dir != nullptr && *dir != '\0') {
+    const fs::path p = fs::path(dir) / "materials.toml";
+    if (fs::is_regular_file(p, ec)) return p;
+    throw std::invalid_argument(
+        fmt::format("SHATTER_DATA_DIR={}: no materials.toml there ({})", dir, p.string()));
+  }
+  std::vector<fs::path> tried;
+  // The installed layout (GNUInstallDirs): PREFIX/bin/shatter and PREFIX/share/shatter/.
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    tried.push_back(exe.parent_path().parent_path() / "share" / "shatter" / "materials.toml");
+  }
+  tried.push_back(fs::path(SHATTER_SOURCE_DIR) / "data" / "materials.toml");
+  for (const fs::path& p : tried) {
+    if (fs::is_regular_file(p, ec)) return p;
+  }
+  std::string list;
+  for (const fs::path& p : tried) list += (list.empty() ? "" : ", ") + p.string();
+  throw std::invalid_argument(fmt::format(
+      "the material catalogue was not found (looked for {}); set SHATTER_DATA_DIR to the folder "
+      "holding materials.toml",
+      list));
+}
+
 MaterialCatalogue MaterialCatalogue::builtin() {
-  return load(std::filesystem::path(SHATTER_SOURCE_DIR) / "data" / "materials.toml");
+  return load(builtin_catalogue_path());
 }
 
 const MaterialSpec& MaterialCatalogue::get(std::string_view name) const {

@@ -38,6 +38,7 @@ std::optional<ImpactInput> read_impact(Reader& root, const Scene& scene) {
   in.speed = r.positive("speed", r.number("speed"));
   r.within("speed", in.speed, 0.0, ranges::kMaxSpeed, "m/s", ranges::kSpeedReason);
   in.angle_deg = r.number("angle");
+  r.note_range("angle", "[0, 90) from the surface normal", "degrees");
   if (!(in.angle_deg >= 0.0 && in.angle_deg < 90.0)) {
     r.fail("angle", fmt::format("must be in [0, 90) degrees from the surface normal (got {})",
                                 in.angle_deg));
@@ -50,6 +51,7 @@ std::optional<ImpactInput> read_impact(Reader& root, const Scene& scene) {
   if (!(in.offset.norm() > 1e-9)) r.fail("offset", "must not be parallel to impact.direction");
   in.offset.normalize();
   // One cell of clearance: the two bodies do not share grid nodes before contact.
+  r.note_default("gap", "cell_size");
   in.gap = r.non_negative("gap", r.number("gap", scene.solver.cell_size));
   r.within("gap", in.gap, 0.0, ranges::kMaxLength, "m", ranges::kLengthReason);
   const int a = scene.symmetry_axis;

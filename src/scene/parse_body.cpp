@@ -1,15 +1,21 @@
 #include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include <Eigen/Geometry>
 
 #include <fmt/format.h>
 
 #include "scene/parts.hpp"
 #include "scene/ranges.hpp"
 #include "shatter/io/suggest.hpp"
+#include "shatter/scene/mesh.hpp"
 
 namespace shatter::scene {
 namespace {
 
-const std::vector<std::string> kShapeKinds = {"sphere", "ellipsoid", "box", "cylinder", "union"};
+const std::vector<std::string> kShapeKinds = {"sphere",   "ellipsoid", "box",
+                                              "cylinder", "mesh",      "union"};
 const std::vector<std::string> kBodyKeys = {"shape",           "material", "velocity", "spacing",
                                             "points_per_cell", "energy",   "mass",     "damage"};
 const std::vector<std::string> kMaterialModelKeys = {"eos", "strength"};
@@ -19,6 +25,7 @@ std::vector<std::string> shape_keys(const std::string& kind) {
   if (kind == "ellipsoid") return {"centre", "semi_axes"};
   if (kind == "box") return {"lo", "hi"};
   if (kind == "cylinder") return {"centre", "axis", "radius", "length"};
+  if (kind == "mesh") return {"file", "scale", "rotation", "position"};
   return {"parts"};
 }
 
@@ -36,7 +43,44 @@ double size(Reader& r, std::string_view key, double v) {
   return r.within(key, v, ranges::kMinLength, ranges::kMaxLength, "m", ranges::kLengthReason);
 }
 
-Primitive read_primitive(Reader& r, const std::string& kind, bool centre_optional) {
+// A closed triangle mesh (OBJ or STL) scaled, rotated and placed: x' = position + R (scale x),
+// with R the rotations about x, then y, then z by the angles in `rotation` (degrees, fixed axes).
+Mesh read_mesh_shape(Reader& r, const std::filesystem::path& base_dir) {
+  const std::filesystem::path file =
+      std::filesystem::absolute(base_dir / std::filesystem::path(r.string("file")));
+  const double scale = r.positive("scale", r.number("scale", 1.0));
+  r.note_range("scale", "", "m per mesh unit");
+  const Vec3 angles = r.vec3("rotation", Vec3::Zero());
+  r.within("rotation", angles.cwiseAbs().maxCoeff(), 0.0, 360.0, "degrees (|angle|)",
+           "a full turn");
+  const Vec3 shift = r.vec3("position", Vec3::Zero());
+  r.within("position", shift.cwiseAbs().maxCoeff(), 0.0, ranges::kMaxCoordinate, "m (|coordinate|)",
+           ranges::kCoordinateReason);
+  TriangleMesh mesh;
+  try {
+    mesh = read_mesh(file);  // its messages name the file (and line)
+  } catch (const std::invalid_argument& e) {
+    r.fail("file", e.what());
+  }
+  try {
+    check_closed(mesh);
+  } catch (const std::invalid_argument& e) {
+    r.fail("file", fmt::format("{}: {}", file.string(), e.what()));
+  }
+  const double deg = std::numbers::pi / 180.0;
+  const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(angles.z() * deg, Vec3::UnitZ()) *
+                                    Eigen::AngleAxisd(angles.y() * deg, Vec3::UnitY()) *
+                                    Eigen::AngleAxisd(angles.x() * deg, Vec3::UnitX()))
+                                       .toRotationMatrix();
+  for (Vec3& v : mesh.vertices) v = shift + rotation * (scale * v);
+  // Absolute in the resolved scene, so a resumed run finds the file from anywhere.
+  r.table().insert_or_assign("file", file.string());
+  return Mesh{std::make_shared<const MeshSolid>(std::move(mesh))};
+}
+
+Primitive read_primitive(Reader& r, const std::string& kind, bool centre_optional,
+                         const std::filesystem::path& base_dir) {
+  if (kind == "mesh") return read_mesh_shape(r, base_dir);
   auto centre = [&] {
     if (centre_optional) return Vec3::Zero().eval();
     return position(r, "centre");
@@ -71,7 +115,7 @@ Primitive read_primitive(Reader& r, const std::string& kind, bool centre_optiona
   return c;
 }
 
-Shape read_shape(Reader& r, bool placed_by_impact) {
+Shape read_shape(Reader& r, bool placed_by_impact, const std::filesystem::path& base_dir) {
   const std::string kind = r.choice("shape", "", kShapeKinds);
   std::vector<std::string> allowed = kBodyKeys;
   const auto keys = shape_keys(kind);
@@ -85,9 +129,10 @@ Shape read_shape(Reader& r, bool placed_by_impact) {
   }
   Shape shape;
   if (kind != "union") {
-    shape.parts.push_back(read_primitive(r, kind, placed_by_impact));
+    shape.parts.push_back(read_primitive(r, kind, placed_by_impact, base_dir));
     return shape;
   }
+  r.note_type("parts", "array of tables (shape and its keys)");
   const toml::node* parts = r.table().get("parts");
   if (parts == nullptr) r.fail("parts", "is required for a union (an array of shape tables)");
   const auto* array = parts->as_array();
@@ -96,12 +141,13 @@ Shape read_shape(Reader& r, bool placed_by_impact) {
     auto* part = const_cast<toml::node*>(array->get(i))->as_table();  // NOLINT: our document
     if (part == nullptr) r.fail("parts", fmt::format("element {} is not a table", i));
     Reader p(*part, fmt::format("{}[{}]", r.key_path("parts"), i), r.where("parts"));
-    const std::string pk = p.choice("shape", "", {"sphere", "ellipsoid", "box", "cylinder"});
+    const std::string pk =
+        p.choice("shape", "", {"sphere", "ellipsoid", "box", "cylinder", "mesh"});
     auto pkeys = shape_keys(pk);
     pkeys.push_back("shape");
     p.allow(pkeys);
     p.reject_unknown();
-    shape.parts.push_back(read_primitive(p, pk, false));
+    shape.parts.push_back(read_primitive(p, pk, false, base_dir));
   }
   return shape;
 }
@@ -117,6 +163,7 @@ std::string key_named_in(const std::string& message, const toml::table& table) {
 }
 
 MaterialSpec read_material(Reader& body, const MaterialCatalogue& catalogue) {
+  body.note_type("material", "string or table");
   const toml::node* n = body.table().get("material");
   if (n == nullptr) body.fail("material", "is required but missing (a catalogue name)");
   toml::table* overrides = n->is_table() ? body.subtable("material") : nullptr;
@@ -171,7 +218,7 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   BodySpec b;
   b.name = name;
   b.where = r.where("shape");
-  b.shape = read_shape(r, placed_by_impact);
+  b.shape = read_shape(r, placed_by_impact, scene.base_dir);
   b.material = read_material(r, catalogue);
   if (!placed_by_impact) b.velocity = r.vec3("velocity", Vec3::Zero());
   r.within("velocity", b.velocity.norm(), 0.0, ranges::kMaxSpeed, "m/s (speed)",
@@ -182,10 +229,13 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   if (r.has("spacing") && r.has("points_per_cell")) {
     r.fail("points_per_cell", "give spacing or points_per_cell, not both");
   }
+  r.note_default("spacing", "cell_size / points_per_cell");
+  r.note_range("spacing", "not with points_per_cell");
   if (r.has("spacing")) {
     b.spacing = size(r, "spacing", r.number("spacing"));
   } else {
     const auto ppc = r.integer("points_per_cell", 2);
+    r.note_range("points_per_cell", ">= 1; spacing = cell_size / points_per_cell");
     if (ppc < 1) r.fail("points_per_cell", fmt::format("must be >= 1 (got {})", ppc));
     b.spacing = scene.solver.cell_size / static_cast<double>(ppc);
   }
@@ -206,6 +256,7 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   }
 
   // Mass given: the density changes, the volume stays (MPM paper Table 2, projectile mass).
+  r.note_range("mass", "", "kg");
   if (auto mass = r.optional_number("mass")) {
     r.positive("mass", *mass);
     const double v = b.shape.exact_volume().value_or(fill_lattice(b.shape, b.spacing).volume);

@@ -28,6 +28,7 @@ BoundaryKind boundary_of(const std::string& s) {
 }  // namespace
 
 void read_solver(Reader& root, Scene& scene) {
+  root.note_default("solver", "*required*");
   toml::table* t = root.subtable("solver");
   if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
   Reader r(*t, "solver");
@@ -67,17 +68,21 @@ void read_solver(Reader& root, Scene& scene) {
   r.within("cell_size", c.cell_size, ranges::kMinLength, ranges::kMaxLength, "m",
            ranges::kLengthReason);
   c.cfl = r.number("cfl", 0.3);
+  r.note_range("cfl", "(0, 1]");
   // Eq. 34 is stable up to CFL = 1.
   if (!(c.cfl > 0.0 && c.cfl <= 1.0))
     r.fail("cfl", fmt::format("must be in (0, 1] (got {})", c.cfl));
   scene.end_time = r.positive("end_time", r.number("end_time"));
   r.within("end_time", scene.end_time, 0.0, ranges::kMaxTime, "s", ranges::kTimeReason);
+  r.note_range("dt_max", "", "s");
+  r.note_range("dt_min", "< dt_max", "s");
   if (auto v = r.optional_number("dt_max")) c.dt_max = r.positive("dt_max", *v);
   c.dt_min = r.non_negative("dt_min", r.number("dt_min", 0.0));
   if (c.dt_min > 0.0 && c.dt_min >= c.dt_max) r.fail("dt_min", "must be smaller than dt_max");
   // Progress guard (docs/reliability.md). The stability scenes' smallest steps are 0.22 to 0.97
   // of the first (docs/stability.md), so 1e-4 stops only a collapse.
   scene.dt_floor_ratio = r.number("dt_floor_ratio", 1e-4);
+  r.note_range("dt_floor_ratio", "[0, 1); 0 disables");
   if (!(scene.dt_floor_ratio >= 0.0 && scene.dt_floor_ratio < 1.0)) {
     r.fail("dt_floor_ratio",
            fmt::format("must be in [0, 1) (got {}; 0 disables the check)", scene.dt_floor_ratio));
@@ -88,6 +93,7 @@ void read_solver(Reader& root, Scene& scene) {
   const std::string plane = r.choice("symmetry_plane", "none", kPlanes);
   scene.symmetry_axis = plane == "none" ? -1 : plane[0] - 'x';
   const auto reorder = r.integer("reorder_interval", 25);
+  r.note_range("reorder_interval", ">= 0", "steps");
   if (reorder < 0) r.fail("reorder_interval", "must be >= 0");
   c.reorder_interval = static_cast<unsigned>(reorder);
 
@@ -125,6 +131,7 @@ void read_solver(Reader& root, Scene& scene) {
   } else {
     // Coulomb coefficient of every pair of bodies not listed in contact_pair.
     c.contact.friction = r.non_negative("friction", r.number("friction", 0.0));
+    r.note_type("contact_pair", "array of tables");
     if (toml::node* pairs = r.table().get("contact_pair")) {
       toml::array* a = pairs->as_array();
       if (a == nullptr) {
@@ -141,6 +148,8 @@ void read_solver(Reader& root, Scene& scene) {
         ContactPairSpec spec;
         spec.where = q.where("bodies");
         spec.key = q.key_path("bodies");
+        q.note_type("bodies", "[\"body\", \"body\"]");
+        q.note_default("bodies", "*required*");
         const toml::node* names = q.table().get("bodies");
         const toml::array* na = names ? names->as_array() : nullptr;
         if (na == nullptr || na->size() != 2 || !(*na)[0].is_string() || !(*na)[1].is_string()) {
@@ -212,6 +221,7 @@ void read_domain(Reader& root, Scene& scene) {
     const std::string& face = kFaces[static_cast<std::size_t>(f)];
     const bool is_symmetry_face = sym >= 0 && f == 2 * sym;
     std::string kind = all;
+    r.note_default(face, "the value of `boundary`");
     if (r.has(face)) {
       kind = r.choice(face, all, kBoundaries);
       if (kind == "symmetry" && !is_symmetry_face) {

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -21,6 +22,34 @@ namespace shatter::scene {
 
 // "file:line" for a value, or "command line (--set k=v)" for an override.
 std::string location(const toml::source_region& where);
+
+// What the readers of all scenes read while a SchemaLog is active: per table (body names and
+// array indices generalised: body.NAME, parts[]), the keys allowed and, per key, its types,
+// defaults, unit and ranges. The scene reference is generated from it (src/scene/reference.cpp),
+// so the documentation lists exactly what the reader accepts.
+struct KeyInfo {
+  std::vector<std::string> types;
+  std::vector<std::string> defaults;  // one per distinct value seen
+  bool required = false;
+  bool optional = false;  // may be left out, no default (optional_number, ...)
+  std::string unit;
+  std::vector<std::string> ranges;
+  std::vector<std::string> choices;
+  std::string stated_type;     // note_type: replaces the types the getters recorded
+  std::string stated_default;  // note_default: replaces the defaults seen (derived ones)
+};
+struct TableInfo {
+  std::vector<std::string> allowed;
+  std::vector<std::string> order;  // keys in the order first seen
+  std::map<std::string, KeyInfo> keys;
+};
+struct SchemaLog {
+  std::vector<std::string> order;  // tables in the order first seen
+  std::map<std::string, TableInfo> tables;
+  TableInfo& table(const std::string& path);
+};
+// Sets the log the Readers of this thread record into (nullptr: none); returns the previous.
+SchemaLog* record_schema(SchemaLog* log);
 
 class Reader {
  public:
@@ -60,11 +89,25 @@ class Reader {
   double within(std::string_view key, double v, double lo, double hi, std::string_view unit,
                 std::string_view reason) const;
 
+  // For the scene reference (docs/scenes.md, src/scene/reference.cpp): the type of a key read
+  // without the typed getters above, and a range checked by hand rather than with within().
+  void note_type(std::string_view key, std::string_view type) const;
+  // A default that depends on other values ("end_time / 10"), or "*required*".
+  void note_default(std::string_view key, std::string_view text) const;
+  // `range` may be empty when only the unit is worth recording.
+  void note_range(std::string_view key, std::string_view range, std::string_view unit = {}) const;
+
   [[noreturn]] void fail(std::string_view key, const std::string& message) const;
   [[noreturn]] void fail_table(const std::string& message) const;
   std::string where(std::string_view key) const;
 
  private:
+  double read_number(std::string_view key);
+  std::string read_string(std::string_view key);
+  Eigen::Vector3d read_vec3(std::string_view key);
+  // Records the key in the active SchemaLog (none outside the reference generator).
+  void note(std::string_view key, std::string_view type, std::optional<std::string> fallback,
+            bool required) const;
   const toml::node* find(std::string_view key) const;
   const toml::node& require(std::string_view key) const;
 

@@ -39,16 +39,20 @@ const std::vector<std::string> kDefaultColumns = {"x",
                                                   "body"};
 
 Scene parse(toml::table doc, const std::string& source, const std::vector<std::string>& overrides,
-            const std::filesystem::path& base_dir) {
+            const std::filesystem::path& base_dir, Points points) {
   for (const auto& o : overrides) apply_override(doc, o);
 
   Scene scene;
   scene.source = source;
+  scene.base_dir = base_dir;
   Reader root(doc, "", source);
   root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact", "fracture",
               "output"});
   root.reject_unknown();
   scene.name = root.string("name", std::filesystem::path(source).stem().string());
+  root.note_default("name", "the file name without .toml");
+  root.note_default("body", "*required*");
+  root.note_type("body", "table of [body.NAME] tables");
   scene.description = root.string("description", "-");
 
   MaterialCatalogue catalogue = MaterialCatalogue::builtin();
@@ -108,7 +112,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   }
   if (impact) apply_impact(*impact, scene);
   resolve_contact_pairs(scene);
-  fill_and_check_bodies(scene);
+  if (points == Points::fill) fill_and_check_bodies(scene);
   read_output(root, scene);
   scene.resolved = to_toml(doc);
   return scene;
@@ -132,9 +136,11 @@ void read_fracture(Reader& root, Scene& scene) {
   r.allow({"seed", "threshold", "fragment_method", "fragment_cell", "static_strength"});
   r.reject_unknown();
   const auto seed = r.integer("seed", 1);
+  r.note_range("seed", ">= 0");
   if (seed < 0) r.fail("seed", "must be >= 0");
   scene.fracture.seed = static_cast<std::uint64_t>(seed);
   scene.fracture.threshold = r.number("threshold", 0.9);
+  r.note_range("threshold", "(0, 1]", "damage");
   if (!(scene.fracture.threshold > 0.0 && scene.fracture.threshold <= 1.0)) {
     r.fail("threshold", fmt::format("must be in (0, 1] (got {})", scene.fracture.threshold));
   }
@@ -142,6 +148,7 @@ void read_fracture(Reader& root, Scene& scene) {
       r.choice("fragment_method", "grid_density", {"grid_density", "friends_of_friends"});
   scene.fracture.search.damage_threshold = scene.fracture.threshold;
   scene.fracture.search.cell_size = r.non_negative("fragment_cell", r.number("fragment_cell", 0.0));
+  r.note_range("fragment_cell", "0 = twice the mean point spacing", "m");
   // BA95 Sec. 4.4 (friends_of_friends only): the static-strength pre-pass, Pa (0 = off); and,
   // for SPH runs, friends within one smoothing length (the solver's h = h_factor (m/rho)^{1/3}).
   if (r.has("static_strength")) {
@@ -168,6 +175,10 @@ void read_output(Reader& root, Scene& scene) {
   r.reject_unknown();
   OutputSpec& o = scene.output;
   o.directory = r.string("directory", "out/" + scene.name);
+  r.note_default("directory", "`\"out/NAME\"` (NAME: the scene's name)");
+  r.note_default("snapshot_every", "end_time / 10");
+  r.note_range("snapshot_every", "0 = first and last only", "s");
+  r.note_range("checkpoint_every", "0 = at the end only", "s");
   o.snapshot_every =
       r.non_negative("snapshot_every", r.number("snapshot_every", scene.end_time / 10));
   o.checkpoint_every = r.non_negative("checkpoint_every", r.number("checkpoint_every", 0.0));
@@ -181,11 +192,17 @@ void read_output(Reader& root, Scene& scene) {
     }
   }
   o.timeseries_every = r.integer("timeseries_every", 10);
+  r.note_range("timeseries_every", ">= 1", "steps");
+  r.note_range("progress_every", "", "s (wall clock)");
   if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");
   o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));
   o.fragments = r.boolean("fragments", true);
 
+  r.note_type("columns", "\"default\", \"all\" or array of column names");
   const toml::node* c = r.table().get("columns");
+  r.note_default("columns",
+                 "`\"default\"` (positions, velocities, mass, volume0, rho, energy, pressure, "
+                 "damage, plastic_strain, stress, id, body)");
   if (c == nullptr || (c->is_string() && c->as_string()->get() == "default")) {
     o.columns = kDefaultColumns;
     if (c == nullptr) r.table().insert("columns", "default");
@@ -211,14 +228,19 @@ void read_output(Reader& root, Scene& scene) {
   }
 }
 
-Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
-  return parse(load_document(file), file.string(), overrides, file.parent_path());
+void fill_bodies(Scene& scene) {
+  fill_and_check_bodies(scene);
+}
+
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                 Points points) {
+  return parse(load_document(file), file.string(), overrides, file.parent_path(), points);
 }
 
 Scene parse_scene(std::string_view text, const std::string& source,
-                  const std::vector<std::string>& overrides,
-                  const std::filesystem::path& base_dir) {
-  return parse(parse_document(text, source, base_dir), source, overrides, base_dir);
+                  const std::vector<std::string>& overrides, const std::filesystem::path& base_dir,
+                  Points points) {
+  return parse(parse_document(text, source, base_dir), source, overrides, base_dir, points);
 }
 
 }  // namespace shatter::scene

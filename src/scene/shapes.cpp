@@ -1,5 +1,7 @@
 #include "shatter/scene/shapes.hpp"
 
+#include "shatter/scene/mesh.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -31,7 +33,8 @@ bool contains(const Primitive& s, const Vec3& p) {
             const double t = d.dot(b.axis);
             return std::abs(t) <= 0.5 * b.length &&
                    (d - t * b.axis).squaredNorm() <= b.radius * b.radius;
-          }},
+          },
+          [&](const Mesh& b) { return b.solid->contains(p); }},
       s);
 }
 
@@ -51,6 +54,9 @@ Bounds bounds(const Primitive& s) {
                    const Vec3 disc = b.radius * (1.0 - b.axis.array().square()).max(0.0).sqrt();
                    const Vec3 half = 0.5 * b.length * b.axis.cwiseAbs() + disc;
                    return Bounds{b.centre - half, b.centre + half};
+                 },
+                 [](const Mesh& b) {
+                   return Bounds{b.solid->lo(), b.solid->hi()};
                  }},
       s);
 }
@@ -61,7 +67,8 @@ double volume(const Primitive& s) {
       Overloaded{[](const Sphere& b) { return 4.0 / 3.0 * pi * b.radius * b.radius * b.radius; },
                  [](const Ellipsoid& b) { return 4.0 / 3.0 * pi * b.semi_axes.prod(); },
                  [](const Box& b) { return (b.hi - b.lo).prod(); },
-                 [](const Cylinder& b) { return pi * b.radius * b.radius * b.length; }},
+                 [](const Cylinder& b) { return pi * b.radius * b.radius * b.length; },
+                 [](const Mesh& b) { return b.solid->volume(); }},
       s);
 }
 

@@ -2,6 +2,9 @@
 // Filling a body with material points on a lattice aligned with the background grid (MPM paper
 // Sec. 4.1.1: 2 x 2 x 2 points per cell when the spacing is half the cell size).
 
+#include <cstddef>
+#include <functional>
+#include <limits>
 #include <vector>
 
 #include "shatter/scene/shapes.hpp"
@@ -19,5 +22,18 @@ struct LatticeFill {
 // mirror image of the kept points is exactly the dropped ones). The volume is the sum over
 // lattice cells of the fraction inside the shape, sub-sampled where a cell straddles its surface.
 LatticeFill fill_lattice(const Shape& shape, double spacing, int clip_axis = -1);
+
+// The points fill_lattice would create, counted without storing them (`shatter check`): their
+// number and the bounds of their positions. Same inside test, so the count is the same.
+struct LatticeCount {
+  std::size_t points = 0;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
+};
+LatticeCount count_lattice(const Shape& shape, double spacing, int clip_axis = -1);
+
+// Calls visit(point) for every point fill_lattice would create, in the same order.
+void for_each_lattice_point(const Shape& shape, double spacing, int clip_axis,
+                            const std::function<void(const Vec3&)>& visit);
 
 }  // namespace shatter::scene

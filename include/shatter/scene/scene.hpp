@@ -2,7 +2,8 @@
 // A scene: bodies (geometry, material, velocity, spacing), solver settings, damage, output. Read
 // from TOML; every key is checked and an error names the file, line and key (SceneError).
 //
-// File layout (scenes/*.toml are the worked examples):
+// File layout (scenes/*.toml are the worked examples; docs/scenes.md lists every key, generated
+// from the reader by `shatter scene-reference`):
 //   name, description          text
 //   extends = "base.toml"      start from another scene and override it
 //   catalogue = "file.toml"    material catalogue (default: the one shipped, data/materials.toml)
@@ -11,7 +12,8 @@
 //                              friction, [[solver.contact_pair]], [solver.viscosity],
 //                              [solver.sph] (h_factor, alpha, beta)
 //   [domain]                   lo, hi, boundary, x_lo, x_hi, y_lo, y_hi, z_lo, z_hi
-//   [body.NAME]                shape + its keys, material, velocity, spacing, points_per_cell,
+//   [body.NAME]                shape (sphere, ellipsoid, box, cylinder, mesh, union) + its keys,
+//                              material, velocity, spacing, points_per_cell,
 //                              energy, mass, [body.NAME.damage]
 //   [impact]                   projectile, target, speed, angle, direction, offset, gap
 //   [fracture]                 seed, threshold, fragment_method, fragment_cell, static_strength
@@ -84,7 +86,8 @@ struct ContactPairSpec {
 struct Scene {
   std::string name;
   std::string description;
-  std::string source;  // file the scene came from (or "<text>")
+  std::string source;              // file the scene came from (or "<text>")
+  std::filesystem::path base_dir;  // where relative file names (catalogue, meshes) are found
   SolverConfig solver;
   std::string method = "mpm";  // solver.method: "mpm" (default) or "sph"
   sph::SphConfig sph;          // [solver.sph], read when method = "sph"
@@ -103,15 +106,25 @@ struct Scene {
   std::size_t particle_count() const;
 };
 
+// Whether reading a scene fills its bodies with points (the default) or leaves that to
+// fill_bodies, so that the size of the run can be checked before anything is allocated
+// (include/shatter/scene/estimate.hpp).
+enum class Points { fill, defer };
+
+// Fills every body with points (BodySpec::fill) and checks them against the domain and each
+// other; throws SceneError. What load_scene does unless given Points::defer.
+void fill_bodies(Scene& scene);
+
 // Reads a scene file. `overrides` are "dotted.key=value" strings (--set), applied after the
 // file (and any file it extends) was read; the value is TOML ("0.5", "\"granite\"", "[0,0,1]")
 // or, if it does not parse as TOML, a bare string. Throws SceneError.
-Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
+                 Points points = Points::fill);
 
 // Same from text (`source` names it in messages); `base_dir` resolves relative paths (extends,
 // catalogue).
 Scene parse_scene(std::string_view text, const std::string& source,
                   const std::vector<std::string>& overrides = {},
-                  const std::filesystem::path& base_dir = ".");
+                  const std::filesystem::path& base_dir = ".", Points points = Points::fill);
 
 }  // namespace shatter::scene

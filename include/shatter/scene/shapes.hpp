@@ -1,7 +1,8 @@
 #pragma once
-// Body geometry: primitives (sphere, ellipsoid, box, cylinder) and unions of them, with an
-// inside test, bounds and — for single primitives — the exact volume.
+// Body geometry: primitives (sphere, ellipsoid, box, cylinder, closed triangle mesh) and unions
+// of them, with an inside test, bounds and — for single primitives — the exact volume.
 
+#include <memory>
 #include <optional>
 #include <variant>
 #include <vector>
@@ -34,7 +35,13 @@ struct Cylinder {
   double length = 0.0;
 };
 
-using Primitive = std::variant<Sphere, Ellipsoid, Box, Cylinder>;
+class MeshSolid;
+// A closed triangle mesh, already scaled, rotated and placed (include/shatter/scene/mesh.hpp).
+struct Mesh {
+  std::shared_ptr<const MeshSolid> solid;
+};
+
+using Primitive = std::variant<Sphere, Ellipsoid, Box, Cylinder, Mesh>;
 
 struct Bounds {
   Vec3 lo = Vec3::Zero();
