@@ -49,6 +49,8 @@ void read_solver(Reader& root, Scene& scene) {
                                     : TransferKind::xpic;
   // FLIP/PIC blend fraction (flip only) and XPIC order (xpic only); TransferKind says what each
   // does. The blend is read only when given, so scenes without it resolve as before.
+  r.note_range("pic_fraction", "[0, 1]; flip only; absent = 0 (pure FLIP)");
+  r.note_range("xpic_order", "[1, 32]; xpic only");
   if (auto f = r.optional_number("pic_fraction")) {
     if (c.transfer != TransferKind::flip)
       r.fail("pic_fraction", "applies only with solver.transfer = \"flip\"");
