@@ -29,7 +29,8 @@ int resume_command(const std::filesystem::path& checkpoint, const RunOptions& op
 struct FragmentOptions {
   std::optional<double> threshold;
   std::optional<std::string> method;
-  std::optional<std::filesystem::path> prefix;  // output files: PREFIX.csv, .h5, .pkdgrav
+  std::optional<std::filesystem::path> prefix;  // output files: PREFIX.csv, .h5, .ss
+  bool ss_particles = false;                    // also PREFIX_particles.ss (every point)
 };
 int fragments_command(const std::filesystem::path& snapshot, const FragmentOptions& options);
 

@@ -78,8 +78,9 @@ int main(int argc, char** argv) {
   auto* threshold_opt =
       fragments->add_option("--threshold", threshold, "damage at which a point has failed");
   auto* method_opt = fragments->add_option("--method", method, "grid_density | friends_of_friends");
-  auto* prefix_opt =
-      fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.pkdgrav");
+  auto* prefix_opt = fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.ss");
+  fragments->add_flag("--ss-particles", fragment_options.ss_particles,
+                      "also PREFIX_particles.ss: every point, for reaccumulation");
   fragments->add_flag("--quiet", quiet, "only warnings and errors");
 
   MaterialOptions material_options;
