@@ -34,6 +34,11 @@ def main():
     rows = 3 if all("peak_pressure" in c for _, c, _ in data) else 2
     fig, axes = plt.subplots(rows, len(files), figsize=(3.2 * len(files), 3.1 * rows),
                              squeeze=False, sharex=True, sharey=True)
+    # One speed (and peak-pressure) colour range for all panels, like the shared axes.
+    vmax = max([np.sqrt(c["vx"] ** 2 + c["vy"] ** 2 + c["vz"] ** 2).max(initial=0)
+                for _, c, _ in data] + [1e-30])
+    pmax = max([np.percentile(c["peak_pressure"], 99) / 1e9 for _, c, _ in data if rows == 3]
+               + [1e-30])
     for k, (t, c, axis) in enumerate(data):
         normal = "xyz"[axis] if axis >= 0 else "z"
         plane = [a_ for a_ in "xyz" if a_ != normal]
@@ -49,18 +54,16 @@ def main():
         axes[0][k].scatter(u[failed], v[failed], c="cyan", s=s, label="D >= 0.9 (failed)")
         where = (f"slice |{normal}| < {h * 1e3:.2g} mm"
                  + (" (symmetry plane)" if axis >= 0 else ""))
-        axes[0][k].set_title(f"damage, t = {t * 1e6:.0f} us\n{where}", fontsize=9)
+        axes[0][k].set_title(f"damage, t = {t * 1e6:.3g} us\n{where}", fontsize=9)
         if k == 0:
             axes[0][k].legend(fontsize=7, loc="lower left", markerscale=3)
-        im2 = axes[1][k].scatter(u, v, c=speed, s=s, cmap="viridis", vmin=0,
-                                 vmax=np.percentile(speed, 95) if speed.size else 1)
+        im2 = axes[1][k].scatter(u, v, c=speed, s=s, cmap="viridis", vmin=0, vmax=vmax)
         axes[1][k].set_title("|v| (m/s)", fontsize=9)
         fig.colorbar(im, ax=axes[0][k], shrink=0.8)
         fig.colorbar(im2, ax=axes[1][k], shrink=0.8)
         if rows == 3:
             peak = c["peak_pressure"][layer] / 1e9
-            im3 = axes[2][k].scatter(u, v, c=peak, s=s, cmap="magma", vmin=0,
-                                     vmax=np.percentile(peak, 99) if peak.size else 1)
+            im3 = axes[2][k].scatter(u, v, c=peak, s=s, cmap="magma", vmin=0, vmax=pmax)
             axes[2][k].set_title("peak pressure (GPa)", fontsize=9)
             fig.colorbar(im3, ax=axes[2][k], shrink=0.8)
         for r in range(rows):
