@@ -118,7 +118,7 @@ ParticleStore read_particles(hid_t file, h5::Verify verify) {
   for (Field f : columns.fields) store.require(f);
   for (IField f : columns.ifields) store.require(f);
   h5::Handle particles = h5::open_group(file, "particles");
-  std::vector<std::string> names = h5::children(particles.get());
+  const std::vector<std::string> names = h5::children(particles.get());
 
   h5::Handle groups = h5::open_group(file, "groups");
   const auto begin = h5::read_ints(groups.get(), "begin", verify);
