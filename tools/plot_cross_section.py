@@ -3,7 +3,9 @@
 
 Usage: plot_cross_section.py RUN_DIR [--times 10e-6 20e-6 ...] [--out FILE.png]
 Points of the layer next to the symmetry plane (or of |z| < spacing for a full model) are drawn;
-damage from 0 to 1, failed (D >= 0.9) as in the paper, and the speed |v| in m/s."""
+each panel names its slice. Damage from 0 to 0.9, failed points (D >= 0.9, the MPM paper's
+criterion) in cyan, and the speed |v| in m/s; with a peak_pressure column also the peak pressure
+in GPa. All panels share the axis ranges."""
 
 import argparse
 import os
@@ -28,9 +30,16 @@ def main():
         files = [sp.snapshot_at(a.run_dir, t) for t in a.times]
     elif len(files) > 5:
         files = [files[i] for i in np.linspace(0, len(files) - 1, 5).round().astype(int)]
-    fig, axes = plt.subplots(2, len(files), figsize=(3.2 * len(files), 6.2), squeeze=False)
-    for k, path in enumerate(files):
-        t, c, axis = sp.read_snapshot(path)
+    data = [sp.read_snapshot(path) for path in files]
+    rows = 3 if all("peak_pressure" in c for _, c, _ in data) else 2
+    fig, axes = plt.subplots(rows, len(files), figsize=(3.2 * len(files), 3.1 * rows),
+                             squeeze=False, sharex=True, sharey=True)
+    # One speed (and peak-pressure) colour range for all panels, like the shared axes.
+    vmax = max([np.sqrt(c["vx"] ** 2 + c["vy"] ** 2 + c["vz"] ** 2).max(initial=0)
+                for _, c, _ in data] + [1e-30])
+    pmax = max([np.percentile(c["peak_pressure"], 99) / 1e9 for _, c, _ in data if rows == 3]
+               + [1e-30])
+    for k, (t, c, axis) in enumerate(data):
         normal = "xyz"[axis] if axis >= 0 else "z"
         plane = [a_ for a_ in "xyz" if a_ != normal]
         h = np.cbrt(np.median(c["volume0"])) if "volume0" in c else np.ptp(c[normal]) / 50
@@ -39,17 +48,28 @@ def main():
         damage = c["damage"][layer] if "damage" in c else np.zeros(layer.sum())
         speed = np.sqrt(c["vx"] ** 2 + c["vy"] ** 2 + c["vz"] ** 2)[layer]
         s = 4.0
-        im = axes[0][k].scatter(u, v, c=damage, s=s, cmap="inferno", vmin=0, vmax=1)
-        axes[0][k].set_title(f"damage, t = {t * 1e6:.0f} us")
-        im2 = axes[1][k].scatter(u, v, c=speed, s=s, cmap="viridis", vmin=0,
-                                 vmax=np.percentile(speed, 95) if speed.size else 1)
-        axes[1][k].set_title("|v| (m/s)")
-        for ax in (axes[0][k], axes[1][k]):
-            ax.set_aspect("equal")
-            ax.set_xlabel(f"{plane[0]} (mm)")
-            ax.set_ylabel(f"{plane[1]} (mm)")
+        failed = damage >= 0.9
+        im = axes[0][k].scatter(u[~failed], v[~failed], c=damage[~failed], s=s, cmap="inferno",
+                                vmin=0, vmax=0.9)
+        axes[0][k].scatter(u[failed], v[failed], c="cyan", s=s, label="D >= 0.9 (failed)")
+        where = (f"slice |{normal}| < {h * 1e3:.2g} mm"
+                 + (" (symmetry plane)" if axis >= 0 else ""))
+        axes[0][k].set_title(f"damage, t = {t * 1e6:.3g} us\n{where}", fontsize=9)
+        if k == 0:
+            axes[0][k].legend(fontsize=7, loc="lower left", markerscale=3)
+        im2 = axes[1][k].scatter(u, v, c=speed, s=s, cmap="viridis", vmin=0, vmax=vmax)
+        axes[1][k].set_title("|v| (m/s)", fontsize=9)
         fig.colorbar(im, ax=axes[0][k], shrink=0.8)
         fig.colorbar(im2, ax=axes[1][k], shrink=0.8)
+        if rows == 3:
+            peak = c["peak_pressure"][layer] / 1e9
+            im3 = axes[2][k].scatter(u, v, c=peak, s=s, cmap="magma", vmin=0, vmax=pmax)
+            axes[2][k].set_title("peak pressure (GPa)", fontsize=9)
+            fig.colorbar(im3, ax=axes[2][k], shrink=0.8)
+        for r in range(rows):
+            axes[r][k].set_aspect("equal")
+            axes[r][k].set_xlabel(f"{plane[0]} (mm)")
+            axes[r][k].set_ylabel(f"{plane[1]} (mm)")
     fig.tight_layout()
     out = a.out or os.path.join(a.run_dir, "plots", "cross_section.png")
     os.makedirs(os.path.dirname(out) or ".", exist_ok=True)

@@ -1,6 +1,8 @@
 #!/usr/bin/python3
-"""Relative total-energy error against time (the paper reports fluctuations below 0.6 %).
-Usage: plot_energy.py RUN_DIR [RUN_DIR ...] [--out FILE.png]"""
+"""Relative total-energy error against time (the paper reports fluctuations below 0.6 %), and the
+kinetic, internal and outflow energies (energy carried out of the domain by points that left it).
+Energies are those of the model run: a half model's are half the whole body's (the title says
+which). Usage: plot_energy.py RUN_DIR [RUN_DIR ...] [--out FILE.png]"""
 
 import argparse
 import os
@@ -24,9 +26,12 @@ def main():
         ax.plot(t, 100 * ts["energy_error"], label=sp.label_of(d))
         ax2.plot(t, ts["kinetic_J"], label=f"kinetic ({sp.label_of(d)})")
         ax2.plot(t, ts["internal_J"], ls="--", label=f"internal ({sp.label_of(d)})")
+        ax2.plot(t, ts["outflow_J"], ls=":", label=f"outflow ({sp.label_of(d)})")
     for s in (-0.6, 0.6):
         ax.axhline(s, color="gray", ls=":", lw=0.8)
     ax.set_ylabel("energy error (%)")
+    ax.set_title(", ".join(sorted({sp.model_label(sp.symmetry_axis(d)) for d in a.run_dirs})),
+                 fontsize=9)
     ax.legend(fontsize=8)
     ax2.set_xlabel("time (us)")
     ax2.set_ylabel("energy (J)")

@@ -23,6 +23,8 @@ def main():
         ax.plot(ts["time_s"] * 1e6, 100 * ts["failure_ratio"], label=sp.label_of(d))
     # The paper's converged value at 100 us (Sec. 4.1.1).
     ax.axhline(52, color="gray", ls="--", lw=0.8, label="MPM paper, converged (52%)")
+    ax.set_title("points with D >= 0.9; " + ", ".join(
+        sorted({sp.model_label(sp.symmetry_axis(d)) for d in a.run_dirs})), fontsize=9)
     ax.set_xlabel("time (us)")
     ax.set_ylabel("failure ratio (%)")
     ax.legend(fontsize=8)

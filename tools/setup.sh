@@ -9,6 +9,10 @@ packages=(
   libbenchmark-dev libgtest-dev libgmock-dev
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   python3 python3-numpy python3-matplotlib python3-h5py
+  # tests of the Python package (python/tests): pytest, and ParaView 5.11's own Xdmf3 reader for
+  # particles.xmf (about 140 MB to download; Debian's VTK 9.1 has no Xdmf3 reader, and its
+  # python3-xdmf bindings do not import)
+  python3-pytest python3-paraview
 )
 
 missing=()

@@ -37,11 +37,12 @@ int check_command(const std::filesystem::path& scene_file, const RunOptions& opt
 struct FragmentOptions {
   std::optional<double> threshold;
   std::optional<std::string> method;
-  std::optional<std::filesystem::path> prefix;  // output files: PREFIX.csv, .h5, .pkdgrav
+  std::optional<std::filesystem::path> prefix;  // output files: PREFIX.csv, .h5, .ss
   // friends_of_friends (BA95 Sec. 4.4): friends within one SPH smoothing length, h = factor
   // (m/rho)^{1/3} (an SPH run's solver.sph.h_factor); and the static-strength pre-pass, Pa.
   std::optional<double> smoothing_factor;
   std::optional<double> static_strength;
+  bool ss_particles = false;  // also PREFIX_particles.ss (every point)
 };
 // `shatter scene-reference`: the key tables of docs/scenes.md from the scene reader, run over
 // the scenes under `roots` (default: scenes/); printed, or written between the markers of the

@@ -45,7 +45,15 @@ int fragments_command(const std::filesystem::path& snapshot, const FragmentOptio
   try {
     spdlog::info("{}: t = {} s, step {}, {} points", snapshot.string(), s.header.time,
                  s.header.step, s.particles.size());
-    report_fragments(s.particles, s.header.symmetry_axis, spec, prefix);
+    FragmentReportInfo info;
+    info.time = s.header.time;
+    info.ss_particles = options.ss_particles;
+    // Group g is body g and material g (scene/build.cpp); snapshots before names have none.
+    if (s.body_names.size() == s.material_names.size()) {
+      info.body_names = s.body_names;
+      info.body_materials = s.material_names;
+    }
+    report_fragments(s.particles, s.header.symmetry_axis, spec, prefix, info);
   } catch (const std::logic_error& e) {
     // A snapshot without the columns the search needs, or an unknown method.
     spdlog::error("{}: {}", snapshot.string(), e.what());

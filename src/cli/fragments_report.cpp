@@ -10,10 +10,15 @@ namespace shatter::cli {
 
 FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_axis,
                                    const FragmentSearchSpec& spec,
-                                   const std::filesystem::path& prefix) {
+                                   const std::filesystem::path& prefix,
+                                   const FragmentReportInfo& info) {
   // A fragment cut by the symmetry plane is one fragment: search the whole body.
   ParticleStore full = symmetry_axis >= 0 ? io::mirrored(particles, symmetry_axis) : particles;
-  const FragmentCatalogue cat = find_fragments(full, spec);
+  full.require(IField::fragment);  // labels, for the composition and the particle ss file
+  FragmentCatalogue cat = find_fragments(full, spec);
+  if (!info.body_names.empty() && full.has(IField::body)) {
+    add_composition(cat, full, info.body_names, info.body_materials);
+  }
   auto with_ext = [&](const char* ext) {
     std::filesystem::path p = prefix;
     p += ext;
@@ -21,16 +26,25 @@ FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_
   };
   write_fragments_csv(cat, with_ext(".csv"));
   write_fragments_hdf5(cat, with_ext(".h5"));
-  write_fragments_pkdgrav(cat, with_ext(".pkdgrav"));
+  write_ss(fragments_ss(cat, info.time), with_ext(".ss"));
+  if (info.ss_particles) write_ss(particles_ss(full, info.time), with_ext("_particles.ss"));
+  const char* model = symmetry_axis >= 0 ? "the mirrored body (half model mirrored)" : "the model";
   spdlog::info(
-      "{} fragments (D < {}), dust {:.3g} kg of {:.3g} kg{}; written to {}.csv/.h5/.pkdgrav",
-      cat.fragments.size(), spec.damage_threshold, cat.dust_mass, cat.total_mass,
-      symmetry_axis >= 0 ? " (half model mirrored)" : "", prefix.string());
+      "{} fragments (D < {}) of {}, dust {:.3g} kg of {:.3g} kg; written to {}.csv/.h5/.ss{}",
+      cat.fragments.size(), spec.damage_threshold, model, cat.dust_mass, cat.total_mass,
+      prefix.string(), info.ss_particles ? " and _particles.ss" : "");
   const std::size_t shown = std::min<std::size_t>(cat.fragments.size(), 5);
   for (std::size_t i = 0; i < shown; ++i) {
     const Fragment& f = cat.fragments[i];
-    spdlog::info("  fragment {}: {} points, m = {:.4g} kg ({:.3g} of total), |v| = {:.4g} m/s", i,
-                 f.particles, f.mass, f.mass / cat.total_mass, f.velocity.norm());
+    std::string made_of;
+    for (std::size_t b = 0; b < f.mass_by_body.size(); ++b) {
+      if (f.mass_by_body[b] > 0.0) {
+        made_of += fmt::format("{}{} {:.2g}", made_of.empty() ? ", " : " + ", cat.body_names[b],
+                               f.mass_by_body[b] / f.mass);
+      }
+    }
+    spdlog::info("  fragment {}: {} points, m = {:.4g} kg ({:.3g} of total), |v| = {:.4g} m/s{}", i,
+                 f.particles, f.mass, f.mass / cat.total_mass, f.velocity.norm(), made_of);
   }
   return cat;
 }

@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
       fragments->add_option("--threshold", threshold, "damage at which a point has failed");
   auto* method_opt = fragments->add_option("--method", method, "grid_density | friends_of_friends");
   auto* prefix_opt =
-      fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.pkdgrav");
+      fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.ss");
   double smoothing_factor = 0.0, static_strength = 0.0;
   auto* smoothing_opt = fragments->add_option(
       "--smoothing-factor", smoothing_factor,
@@ -131,6 +131,8 @@ int main(int argc, char** argv) {
   auto* static_opt = fragments->add_option(
       "--static-strength", static_strength,
       "friends_of_friends: undamaged points at this principal tension (Pa) count as failed");
+  fragments->add_flag("--ss-particles", fragment_options.ss_particles,
+                      "also PREFIX_particles.ss: every point, for reaccumulation");
   fragments->add_flag("--quiet", quiet, "only warnings and errors");
 
   MaterialOptions material_options;

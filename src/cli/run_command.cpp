@@ -24,7 +24,7 @@ void clear_run(const std::filesystem::path& out) {
   std::filesystem::remove_all(snapshot_dir(out));
   for (const char* name :
        {"scene.toml", "checkpoint.h5", "checkpoint.h5.tmp", "particles.xmf", "timeseries.csv",
-        "fragments.csv", "fragments.h5", "fragments.pkdgrav"}) {
+        "fragments.csv", "fragments.h5", "fragments.ss"}) {
     std::filesystem::remove(out / name);
   }
   for (const auto& e : std::filesystem::directory_iterator(out)) {

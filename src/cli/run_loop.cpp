@@ -180,8 +180,13 @@ class Runner {
     spdlog::info("finished: t = {}, {} steps, {:.1f} s wall, energy error {:.3e}",
                  format_time(sim_.time()), sim_.clock().step, wall, sim_.energy().error());
     if (scene_.output.fragments && sim_.particles().has(Field::damage)) {
+      FragmentReportInfo info{sim_.time(), {}, {}, false};
+      for (const auto& b : scene_.bodies) {
+        info.body_names.push_back(b.name);
+        info.body_materials.push_back(b.material.name);
+      }
       report_fragments(sim_.particles(), scene_.symmetry_axis, scene_.fracture.search,
-                       spec_.out / "fragments");
+                       spec_.out / "fragments", info);
     }
   }
 
@@ -194,9 +199,16 @@ class Runner {
   void snapshot() {
     const auto file =
         snapshot_dir(spec_.out) / fmt::format("snapshot_{:06d}.h5", cursor_.next_snapshot);
+    io::SnapshotOptions options;
+    options.single_precision = scene_.output.single_precision;
+    // Group g holds body g, whose material is material g (scene/build.cpp).
+    for (const auto& b : scene_.bodies) {
+      options.body_names.push_back(b.name);
+      options.material_names.push_back(b.material.name);
+    }
     io::write_snapshot(file, sim_.particles(),
                        {sim_.time(), sim_.clock().step, SHATTER_VERSION, scene_.symmetry_axis},
-                       columns_);
+                       columns_, options);
     series_.add(file);
     last_snapshot_time_ = sim_.time();
     ++cursor_.next_snapshot;

@@ -1,10 +1,15 @@
-// Fragment tables: CSV and HDF5 (one dataset per column, units as attributes), pkdgrav-style text
-// for N-body hand-off, and the cumulative mass distribution.
+// Fragment tables: CSV and HDF5 (one dataset per column, units as attributes; mass from each body
+// and material when known), pkdgrav's binary ss format for the N-body hand-off, and the
+// cumulative mass distribution.
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <iterator>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -128,10 +133,14 @@ void write_fragments_csv(const FragmentCatalogue& cat, const std::filesystem::pa
                      cat.dust_mass, cat.fragments.size());
   out << "id,particles";
   for (const auto& c : columns()) out << ',' << c.name << '_' << c.unit;
+  for (const auto& b : cat.body_names) out << ",mass_body_" << b << "_kg";
+  for (const auto& m : cat.material_names) out << ",mass_material_" << m << "_kg";
   out << '\n';
   for (const auto& f : cat.fragments) {
     out << f.id << ',' << f.particles;
     for (const auto& c : columns()) out << ',' << fmt::format("{:.17g}", c.value(f));
+    for (double m : f.mass_by_body) out << ',' << fmt::format("{:.17g}", m);
+    for (double m : f.mass_by_material) out << ',' << fmt::format("{:.17g}", m);
     out << '\n';
   }
   if (!out) throw std::runtime_error("error writing " + file.string());
@@ -158,6 +167,17 @@ void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::p
     for (std::size_t i = 0; i < values.size(); ++i) values[i] = c.value(cat.fragments[i]);
     write_dataset(group.id, c.name, H5T_NATIVE_DOUBLE, values, c.unit);
   }
+  // Composition: mass_body_NAME and mass_material_NAME datasets, kg.
+  auto composition = [&](const std::vector<std::string>& names, const char* kind,
+                         std::vector<double> Fragment::*member) {
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      for (std::size_t i = 0; i < values.size(); ++i) values[i] = (cat.fragments[i].*member)[k];
+      write_dataset(group.id, fmt::format("mass_{}_{}", kind, names[k]).c_str(), H5T_NATIVE_DOUBLE,
+                    values, "kg");
+    }
+  };
+  composition(cat.body_names, "body", &Fragment::mass_by_body);
+  composition(cat.material_names, "material", &Fragment::mass_by_material);
   const auto cumulative = cumulative_mass_distribution(cat);
   const H5Handle cgroup{H5Gcreate2(h5.id, "cumulative_mass", H5P_DEFAULT, gcpl.id, H5P_DEFAULT),
                         H5Gclose};
@@ -174,19 +194,187 @@ void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::p
   write_dataset(cgroup.id, "cumulative_mass", H5T_NATIVE_DOUBLE, cm, "kg");
 }
 
-void write_fragments_pkdgrav(const FragmentCatalogue& cat, const std::filesystem::path& file) {
-  auto out = open_text(file);
-  out << "# shatter fragments for N-body codes (pkdgrav ss-style columns), SI units\n"
-         "# id mass[kg] radius[m] x[m] y[m] z[m] vx[m/s] vy[m/s] vz[m/s] wx[rad/s] wy[rad/s] "
-         "wz[rad/s]\n";
-  for (const auto& f : cat.fragments) {
-    out << fmt::format(
-        "{} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} "
-        "{:.17g}\n",
-        f.id, f.mass, equal_volume_radius(f), f.centre.x(), f.centre.y(), f.centre.z(),
-        f.velocity.x(), f.velocity.y(), f.velocity.z(), f.omega.x(), f.omega.y(), f.omega.z());
+void add_composition(FragmentCatalogue& cat, const ParticleStore& store,
+                     const std::vector<std::string>& body_names,
+                     const std::vector<std::string>& body_materials) {
+  if (body_names.size() != body_materials.size()) {
+    throw std::invalid_argument("add_composition: one material per body needed");
   }
+  cat.body_names = body_names;
+  cat.material_names.clear();
+  std::vector<std::size_t> material_of;  // body -> index into material_names
+  for (const auto& m : body_materials) {
+    auto it = std::find(cat.material_names.begin(), cat.material_names.end(), m);
+    if (it == cat.material_names.end()) it = cat.material_names.insert(it, m);
+    material_of.push_back(static_cast<std::size_t>(it - cat.material_names.begin()));
+  }
+  for (auto& f : cat.fragments) {
+    f.mass_by_body.assign(body_names.size(), 0.0);
+    f.mass_by_material.assign(cat.material_names.size(), 0.0);
+  }
+  const auto label = store.col(IField::fragment);
+  const auto body = store.col(IField::body);
+  const auto mass = store.col(Field::mass);
+  // Fragment ids are ranks (0 = largest), so they index cat.fragments.
+  for (std::size_t p = 0; p < store.size(); ++p) {
+    if (label[p] < 0) continue;
+    const auto k = static_cast<std::size_t>(label[p]);
+    const auto b = static_cast<std::size_t>(body[p]);
+    if (k >= cat.fragments.size() || b >= body_names.size()) {
+      throw std::invalid_argument(
+          fmt::format("add_composition: point {} has fragment {} of {}, body {} of {}", p, label[p],
+                      cat.fragments.size(), body[p], body_names.size()));
+    }
+    cat.fragments[k].mass_by_body[b] += mass[p];
+    cat.fragments[k].mass_by_material[material_of[b]] += mass[p];
+  }
+}
+
+namespace pkdgrav_units {
+double time() {
+  return std::sqrt(kLength * kLength * kLength / kGM);
+}
+}  // namespace pkdgrav_units
+
+namespace {
+
+// XDR: IEEE values and two's-complement ints, big-endian (RFC 4506 Secs. 4.1 and 4.6).
+void put_be(std::string& out, std::uint64_t bits, int bytes) {
+  for (int k = bytes - 1; k >= 0; --k) out.push_back(static_cast<char>((bits >> (8 * k)) & 0xff));
+}
+void put_double(std::string& out, double v) {
+  put_be(out, std::bit_cast<std::uint64_t>(v), 8);
+}
+void put_int(std::string& out, std::int32_t v) {
+  put_be(out, static_cast<std::uint32_t>(v), 4);
+}
+std::uint64_t get_be(const std::string& in, std::size_t& at, int bytes) {
+  std::uint64_t v = 0;
+  for (int k = 0; k < bytes; ++k) v = (v << 8) | static_cast<unsigned char>(in[at++]);
+  return v;
+}
+double get_double(const std::string& in, std::size_t& at) {
+  return std::bit_cast<double>(get_be(in, at, 8));
+}
+std::int32_t get_int(const std::string& in, std::size_t& at) {
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(get_be(in, at, 4)));
+}
+
+constexpr std::size_t kSsHead = 16;  // SSHEAD_SIZE
+constexpr std::size_t kSsData = 96;  // SSDATA_SIZE
+constexpr std::int32_t kSsMagicStandard = -1;
+
+}  // namespace
+
+void write_ss(const SsFile& ss, const std::filesystem::path& file) {
+  using namespace pkdgrav_units;
+  const double t = time();
+  if (ss.records.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
+    throw std::invalid_argument(fmt::format("{}: {} records exceed the ss format's int count",
+                                            file.string(), ss.records.size()));
+  }
+  std::string bytes;
+  bytes.reserve(kSsHead + kSsData * ss.records.size());
+  put_double(bytes, ss.time / t);
+  put_int(bytes, static_cast<std::int32_t>(ss.records.size()));
+  put_int(bytes, kSsMagicStandard);
+  for (const SsRecord& r : ss.records) {
+    put_double(bytes, r.mass / kMass);
+    put_double(bytes, r.radius / kLength);
+    for (int k = 0; k < 3; ++k) put_double(bytes, r.pos[k] / kLength);
+    for (int k = 0; k < 3; ++k) put_double(bytes, r.vel[k] * t / kLength);
+    for (int k = 0; k < 3; ++k) put_double(bytes, r.spin[k] * t);
+    put_int(bytes, r.color);
+    put_int(bytes, r.org_idx);
+  }
+  std::ofstream out(file, std::ios::binary);
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (!out) throw std::runtime_error("error writing " + file.string());
+}
+
+SsFile read_ss(const std::filesystem::path& file) {
+  using namespace pkdgrav_units;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + file.string());
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < kSsHead) {
+    throw std::runtime_error(
+        fmt::format("{}: {} bytes, shorter than an ss header", file.string(), bytes.size()));
+  }
+  const double t = time();
+  std::size_t at = 0;
+  SsFile ss;
+  ss.time = get_double(bytes, at) * t;
+  const std::int32_t n = get_int(bytes, at);
+  get_int(bytes, at);  // pad / magic number
+  if (n < 0 || bytes.size() != kSsHead + kSsData * static_cast<std::size_t>(n)) {
+    throw std::runtime_error(
+        fmt::format("{}: header says {} records, file has {} bytes (expected "
+                    "{} + {} per record)",
+                    file.string(), n, bytes.size(), kSsHead, kSsData));
+  }
+  ss.records.resize(static_cast<std::size_t>(n));
+  for (SsRecord& r : ss.records) {
+    r.mass = get_double(bytes, at) * kMass;
+    r.radius = get_double(bytes, at) * kLength;
+    for (int k = 0; k < 3; ++k) r.pos[k] = get_double(bytes, at) * kLength;
+    for (int k = 0; k < 3; ++k) r.vel[k] = get_double(bytes, at) * kLength / t;
+    for (int k = 0; k < 3; ++k) r.spin[k] = get_double(bytes, at) / t;
+    r.color = get_int(bytes, at);
+    r.org_idx = get_int(bytes, at);
+  }
+  return ss;
+}
+
+std::int32_t ss_body_colour(std::int64_t body) {
+  // 3 green, 4 blue, then 6, 7, ... (5 is the Sun's, 2 Jupiter's: RESERVED_COLOR in ssio.h).
+  return body < 2 ? static_cast<std::int32_t>(3 + body) : static_cast<std::int32_t>(4 + body);
+}
+
+std::int32_t ss_fragment_colour(std::int64_t fragment) {
+  return fragment < 0 ? 1 : ss_body_colour(fragment);
+}
+
+SsFile fragments_ss(const FragmentCatalogue& cat, double time) {
+  SsFile ss;
+  ss.time = time;
+  for (const Fragment& f : cat.fragments) {
+    SsRecord r;
+    r.mass = f.mass;
+    r.radius = equal_volume_radius(f);
+    r.pos = f.centre;
+    r.vel = f.velocity;
+    r.spin = f.omega;
+    std::int64_t main_body = 0;
+    if (!f.mass_by_body.empty()) {
+      main_body =
+          std::max_element(f.mass_by_body.begin(), f.mass_by_body.end()) - f.mass_by_body.begin();
+    }
+    r.color = ss_body_colour(main_body);
+    r.org_idx = static_cast<std::int32_t>(f.id);
+    ss.records.push_back(r);
+  }
+  return ss;
+}
+
+SsFile particles_ss(const ParticleStore& store, double time) {
+  SsFile ss;
+  ss.time = time;
+  const auto m = store.col(Field::mass);
+  const auto rho = store.col(Field::rho);
+  const auto label = store.col(IField::fragment);
+  for (std::size_t p = 0; p < store.size(); ++p) {
+    SsRecord r;
+    r.mass = m[p];
+    r.radius = std::cbrt(3.0 * m[p] / (rho[p] * 4.0 * std::numbers::pi));
+    r.pos = {store.col(Field::x)[p], store.col(Field::y)[p], store.col(Field::z)[p]};
+    r.vel = {store.col(Field::vx)[p], store.col(Field::vy)[p], store.col(Field::vz)[p]};
+    r.color = ss_fragment_colour(label[p]);
+    r.org_idx = static_cast<std::int32_t>(p);
+    ss.records.push_back(r);
+  }
+  return ss;
 }
 
 void write_cumulative_mass_csv(const FragmentCatalogue& cat, const std::filesystem::path& file) {

@@ -36,6 +36,7 @@ std::string_view unit_of(Field f) {
     case Field::syz:
     case Field::sxz:
     case Field::pressure:
+    case Field::peak_pressure:
     case Field::sdev_xx:
     case Field::sdev_yy:
     case Field::sdev_zz:

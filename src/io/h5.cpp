@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -87,22 +89,46 @@ void verify_checksum(hid_t set, hid_t where, const std::string& short_name, cons
   }
 }
 
-template <class T>
-void write_1d(hid_t parent, const std::string& name, hid_t type, std::span<const T> data) {
-  const hsize_t n = data.size();
-  Handle space{check(H5Screate_simple(1, &n, nullptr), parent, "create dataspace for", name),
-               H5Sclose};
+// Rows per chunk of a compressed dataset: 16384 rows of a 6-column binary64 table are 768 KiB,
+// within HDF5's default 1 MiB chunk cache.
+constexpr hsize_t kChunkRows = 16384;
+constexpr unsigned kDeflateLevel = 4;  // zlib level: most of level 9's ratio at a third the time
+
+Handle dataset_creation(int rank, const hsize_t* dims, hid_t where, const std::string& name,
+                        bool compress) {
   Handle dcpl = untimed(H5P_DATASET_CREATE);
+  if (compress && dims[0] > 0) {
+    if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) <= 0) fail(where, "deflate (no zlib filter)", name);
+    const hsize_t chunk[2] = {std::min(dims[0], kChunkRows), rank == 2 ? dims[1] : 1};
+    check(H5Pset_chunk(dcpl.get(), rank, chunk), where, "chunk", name);
+    check(H5Pset_shuffle(dcpl.get()), where, "shuffle", name);
+    check(H5Pset_deflate(dcpl.get(), kDeflateLevel), where, "deflate", name);
+  }
+  return dcpl;
+}
+
+template <class T>
+void write_nd(hid_t parent, const std::string& name, hid_t type, const T* data, std::size_t rows,
+              std::size_t cols, bool compress, std::size_t value_bytes = sizeof(T)) {
+  const hsize_t dims[2] = {rows, cols};
+  const int rank = cols == 1 ? 1 : 2;
+  Handle space{check(H5Screate_simple(rank, dims, nullptr), parent, "create dataspace for", name),
+               H5Sclose};
+  Handle dcpl = dataset_creation(rank, dims, parent, name, compress);
   Handle set{check(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(),
                               H5P_DEFAULT),
                    parent, "create dataset", name),
              H5Dclose};
   // An empty dataset has no data to write (and HDF5 rejects a null buffer).
-  if (n > 0) {
-    check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), parent, "write",
-          name);
+  if (rows * cols > 0) {
+    check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), parent, "write", name);
   }
-  set_checksum(set.get(), parent, name, data.data(), data.size_bytes());
+  set_checksum(set.get(), parent, name, data, rows * cols * value_bytes);
+}
+
+template <class T>
+void write_1d(hid_t parent, const std::string& name, hid_t type, std::span<const T> data) {
+  write_nd(parent, name, type, data.data(), data.size(), 1, false);
 }
 
 template <class T>
@@ -132,7 +158,107 @@ Handle open_attr(hid_t obj, const std::string& name) {
   return {check(H5Aopen(obj, name.c_str(), H5P_DEFAULT), obj, "open attribute", name), H5Aclose};
 }
 
+// Rows and columns of a 1-d or 2-d dataset.
+std::pair<std::size_t, std::size_t> shape_of(hid_t set, hid_t parent, const std::string& name) {
+  Handle space{check(H5Dget_space(set), parent, "get dataspace of", name), H5Sclose};
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank != 1 && rank != 2) fail(parent, "read 1-d or 2-d dataset", name);
+  hsize_t dims[2] = {0, 1};
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  return {static_cast<std::size_t>(dims[0]), static_cast<std::size_t>(rank == 2 ? dims[1] : 1)};
+}
+
 }  // namespace
+
+void write_reals(hid_t parent, const std::string& name, std::span<const double> data,
+                 std::size_t cols, Storage storage) {
+  if (cols == 0 || data.size() % cols != 0) fail(parent, "shape table", name);
+  const std::size_t rows = data.size() / cols;
+  if (storage.single) {
+    const std::vector<float> narrow(data.begin(), data.end());
+    write_nd(parent, name, H5T_NATIVE_FLOAT, narrow.data(), rows, cols, storage.compress);
+  } else {
+    write_nd(parent, name, H5T_NATIVE_DOUBLE, data.data(), rows, cols, storage.compress);
+  }
+}
+
+void write_ints(hid_t parent, const std::string& name, std::span<const std::int64_t> data,
+                Storage storage) {
+  write_nd(parent, name, H5T_NATIVE_INT64, data.data(), data.size(), 1, storage.compress);
+}
+
+RealTable read_reals(hid_t parent, const std::string& name, Verify verify) {
+  Handle set = open_dataset(parent, name);
+  Handle type{check(H5Dget_type(set.get()), parent, "get type of", name), H5Tclose};
+  if (H5Tget_class(type.get()) != H5T_FLOAT) fail(parent, "read real dataset", name);
+  RealTable t;
+  std::tie(t.rows, t.cols) = shape_of(set.get(), parent, name);
+  const std::size_t n = t.rows * t.cols;
+  if (H5Tget_size(type.get()) == sizeof(float)) {
+    std::vector<float> narrow(n);
+    if (n > 0) {
+      check(H5Dread(set.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, narrow.data()),
+            parent, "read", name);
+    }
+    verify_checksum(set.get(), parent, name, narrow.data(), n * sizeof(float), verify);
+    t.values.assign(narrow.begin(), narrow.end());
+  } else {
+    t.values.resize(n);
+    if (n > 0) {
+      check(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t.values.data()),
+            parent, "read", name);
+    }
+    verify_checksum(set.get(), parent, name, t.values.data(), n * sizeof(double), verify);
+  }
+  return t;
+}
+
+DatasetShape dataset_shape(hid_t parent, const std::string& name) {
+  Handle set = open_dataset(parent, name);
+  Handle type{check(H5Dget_type(set.get()), parent, "get type of", name), H5Tclose};
+  DatasetShape d;
+  std::tie(d.rows, d.cols) = shape_of(set.get(), parent, name);
+  d.real = H5Tget_class(type.get()) == H5T_FLOAT;
+  d.bytes = H5Tget_size(type.get());
+  return d;
+}
+
+void write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& values) {
+  std::size_t width = 1;
+  for (const auto& v : values) width = std::max(width, v.size());
+  std::string buffer(width * values.size(), '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::copy(values[i].begin(), values[i].end(), buffer.begin() + static_cast<long>(i * width));
+  }
+  Handle type{check(H5Tcopy(H5T_C_S1), parent, "copy string type for", name), H5Tclose};
+  check(H5Tset_size(type.get(), width), parent, "size", name);
+  check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), parent, "pad string", name);
+  write_nd(parent, name, type.get(), buffer.data(), values.size(), 1, false, width);
+}
+
+std::vector<std::string> read_strings(hid_t parent, const std::string& name, Verify verify) {
+  Handle set = open_dataset(parent, name);
+  Handle type{check(H5Dget_type(set.get()), parent, "get type of", name), H5Tclose};
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
+    fail(parent, "read fixed-length string dataset", name);
+  }
+  const std::size_t width = H5Tget_size(type.get());
+  const auto [rows, cols] = shape_of(set.get(), parent, name);
+  if (cols != 1) fail(parent, "read 1-d string dataset", name);
+  std::string buffer(rows * width, '\0');
+  if (rows > 0) {
+    check(H5Dread(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), parent,
+          "read", name);
+  }
+  verify_checksum(set.get(), parent, name, buffer.data(), buffer.size(), verify);
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < rows; ++i) {
+    std::string v = buffer.substr(i * width, width);
+    while (!v.empty() && v.back() == '\0') v.pop_back();
+    out.push_back(std::move(v));
+  }
+  return out;
+}
 
 std::uint64_t checksum(const void* data, std::size_t bytes) {
   // zlib's length argument is 32-bit: feed large buffers in pieces.

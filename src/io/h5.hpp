@@ -67,6 +67,38 @@ std::vector<double> read_doubles(hid_t parent, const std::string& name,
                                  Verify verify = Verify::if_present);
 std::vector<std::int64_t> read_ints(hid_t parent, const std::string& name,
                                     Verify verify = Verify::if_present);
+// How a real or integer dataset is stored. `compress`: chunked, byte-shuffled and deflated (the
+// checksum covers the values, so it does not depend on the compression). `single`: reals as
+// IEEE binary32 (the checksum then covers the binary32 values).
+struct Storage {
+  bool compress = false;
+  bool single = false;
+};
+// Row-major rows x cols values; cols == 1 gives a 1-d dataset, otherwise a 2-d one.
+void write_reals(hid_t parent, const std::string& name, std::span<const double> data,
+                 std::size_t cols, Storage storage);
+void write_ints(hid_t parent, const std::string& name, std::span<const std::int64_t> data,
+                Storage storage);
+// A 1-d or 2-d real dataset (binary64 or binary32) as doubles, with its shape.
+struct RealTable {
+  std::vector<double> values;
+  std::size_t rows = 0;
+  std::size_t cols = 1;
+};
+RealTable read_reals(hid_t parent, const std::string& name, Verify verify = Verify::if_present);
+// Shape (1 or 2 dimensions) and bytes per value of a dataset.
+struct DatasetShape {
+  std::size_t rows = 0;
+  std::size_t cols = 1;
+  bool real = true;
+  std::size_t bytes = 8;
+};
+DatasetShape dataset_shape(hid_t parent, const std::string& name);
+// A 1-d dataset of fixed-length strings (null padded to the longest); checksum over the padded
+// bytes as stored.
+void write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& values);
+std::vector<std::string> read_strings(hid_t parent, const std::string& name,
+                                      Verify verify = Verify::if_present);
 // Kind of a dataset's values: true for floating point, false for integer.
 bool is_float_dataset(hid_t parent, const std::string& name);
 std::size_t dataset_size(hid_t parent, const std::string& name);

@@ -28,7 +28,8 @@ SnapshotHeader read_header(hid_t file, const std::filesystem::path& path) {
 }  // namespace
 
 void write_snapshot(const std::filesystem::path& file, const ParticleStore& store,
-                    const SnapshotHeader& header, const ColumnSelection& columns) {
+                    const SnapshotHeader& header, const ColumnSelection& columns,
+                    const SnapshotOptions& options) {
   h5::QuietErrors quiet;
   const auto tmp = temporary_for(file);
   {
@@ -43,7 +44,15 @@ void write_snapshot(const std::filesystem::path& file, const ParticleStore& stor
     h5::set_attr(f.get(), "units", std::string_view("SI; see the units attribute of each column"));
     h5::set_attr(f.get(), "checksums",
                  std::string_view("crc32 (zlib) of each dataset's values in its attribute crc32"));
-    write_particles(f.get(), store, columns);
+    if (!options.body_names.empty() || !options.material_names.empty()) {
+      h5::Handle names = h5::create_group(f.get(), "names");
+      h5::write_strings(names.get(), "body", options.body_names);
+      h5::write_strings(names.get(), "material", options.material_names);
+    }
+    h5::set_attr(f.get(), "precision",
+                 std::string_view(options.single_precision ? "binary32" : "binary64"));
+    const ParticleLayout layout{true, {true, options.single_precision}};
+    write_particles(f.get(), store, columns, {}, layout);
     if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
       throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
     }
@@ -57,8 +66,14 @@ Snapshot read_snapshot(const std::filesystem::path& file) {
   Snapshot s;
   s.header = read_header(f.get(), file);
   // A snapshot that declares checksums must carry one on every dataset; older ones have none.
-  s.particles = read_particles(
-      f.get(), h5::has_attr(f.get(), "checksums") ? h5::Verify::required : h5::Verify::if_present);
+  const auto verify =
+      h5::has_attr(f.get(), "checksums") ? h5::Verify::required : h5::Verify::if_present;
+  s.particles = read_particles(f.get(), verify);
+  if (h5::exists(f.get(), "names")) {
+    h5::Handle names = h5::open_group(f.get(), "names");
+    s.body_names = h5::read_strings(names.get(), "body", verify);
+    s.material_names = h5::read_strings(names.get(), "material", verify);
+  }
   return s;
 }
 
@@ -69,6 +84,20 @@ SnapshotInfo inspect_snapshot(const std::filesystem::path& file) {
   info.header = read_header(f.get(), file);
   info.particles = particles_in_file(f.get());
   info.columns = columns_in_file(f.get());
+  h5::Handle particles = h5::open_group(f.get(), "particles");
+  for (const std::string& name : h5::children(particles.get())) {
+    const h5::DatasetShape shape = h5::dataset_shape(particles.get(), name);
+    SnapshotDataset d;
+    d.name = name;
+    d.components = shape.cols;
+    d.real = shape.real;
+    d.bytes = shape.bytes;
+    h5::Handle set{H5Dopen2(particles.get(), name.c_str(), H5P_DEFAULT), H5Dclose};
+    if (h5::has_attr(set.get(), "units")) d.units = h5::get_attr_string(set.get(), "units");
+    const Bundle* b = bundle_by_name(name);
+    d.xdmf_type = b != nullptr ? std::string(b->xdmf_type) : "Scalar";
+    info.datasets.push_back(std::move(d));
+  }
   return info;
 }
 

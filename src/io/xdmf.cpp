@@ -35,11 +35,20 @@ std::string xml_escape(std::string_view s) {
   return out;
 }
 
-std::string data_item(const XdmfEntry& e, std::string_view column, bool real) {
+std::string data_item(const XdmfEntry& e, const SnapshotDataset& d) {
+  const std::string dims = d.components == 1 ? fmt::format("{}", e.particles)
+                                             : fmt::format("{} {}", e.particles, d.components);
   return fmt::format(
-      "          <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"8\" "
+      "          <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" "
       "Format=\"HDF\">{}:/particles/{}</DataItem>\n",
-      e.particles, real ? "Float" : "Int", xml_escape(e.file), column);
+      dims, d.real ? "Float" : "Int", d.bytes, xml_escape(e.file), d.name);
+}
+
+const SnapshotDataset* find(const XdmfEntry& e, std::string_view name) {
+  for (const SnapshotDataset& d : e.datasets) {
+    if (d.name == name) return &d;
+  }
+  return nullptr;
 }
 
 }  // namespace
@@ -47,18 +56,10 @@ std::string data_item(const XdmfEntry& e, std::string_view column, bool real) {
 std::string xdmf_document(const std::vector<XdmfEntry>& entries) {
   std::string doc =
       "<?xml version=\"1.0\" ?>\n"
-      "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-      "<Xdmf Version=\"2.0\">\n"
+      "<Xdmf Version=\"3.0\">\n"
       "  <Domain>\n"
       "    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const XdmfEntry& e : entries) {
-    const auto& f = e.columns.fields;
-    for (Field axis : {Field::x, Field::y, Field::z}) {
-      if (std::find(f.begin(), f.end(), axis) == f.end()) {
-        throw std::invalid_argument(fmt::format(
-            "snapshot {} lacks column '{}' needed for XDMF geometry", e.file, name_of(axis)));
-      }
-    }
     doc += fmt::format("      <Grid Name=\"{}\" GridType=\"Uniform\">\n",
                        xml_escape(std::filesystem::path(e.file).stem().string()));
     doc += fmt::format("        <Time Value=\"{}\" />\n", e.time);
@@ -66,19 +67,37 @@ std::string xdmf_document(const std::vector<XdmfEntry>& entries) {
         "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
         "NodesPerElement=\"1\" />\n",
         e.particles);
-    doc += "        <Geometry GeometryType=\"X_Y_Z\">\n";
-    for (std::string_view axis : {"x", "y", "z"}) doc += data_item(e, axis, true);
+    // Positions as one N x 3 dataset (XYZ), which both of ParaView's XDMF readers show; snapshots
+    // written before the bundled layout have three 1-d datasets (X_Y_Z, legacy reader only).
+    std::vector<std::string_view> geometry;
+    if (const SnapshotDataset* p = find(e, "position"); p != nullptr && p->components == 3) {
+      doc += "        <Geometry GeometryType=\"XYZ\">\n";
+      doc += data_item(e, *p);
+      geometry = {"position"};
+    } else {
+      doc += "        <Geometry GeometryType=\"X_Y_Z\">\n";
+      for (std::string_view axis : {"x", "y", "z"}) {
+        const SnapshotDataset* a = find(e, axis);
+        if (a == nullptr) {
+          throw std::invalid_argument(
+              fmt::format("snapshot {} lacks positions ('position' or '{}') needed for XDMF "
+                          "geometry",
+                          e.file, axis));
+        }
+        doc += data_item(e, *a);
+      }
+      geometry = {"x", "y", "z"};
+    }
     doc += "        </Geometry>\n";
-    auto attribute = [&](std::string_view name, std::string_view units, bool real) {
+    for (const SnapshotDataset& d : e.datasets) {
+      if (std::find(geometry.begin(), geometry.end(), d.name) != geometry.end()) continue;
       doc += fmt::format(
-          "        <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+          "        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n"
           "          <Information Name=\"units\" Value=\"{}\" />\n",
-          name, xml_escape(units));
-      doc += data_item(e, name, real);
+          xml_escape(d.name), d.xdmf_type, xml_escape(d.units));
+      doc += data_item(e, d);
       doc += "        </Attribute>\n";
-    };
-    for (Field c : e.columns.fields) attribute(name_of(c), unit_of(c), true);
-    for (IField c : e.columns.ifields) attribute(name_of(c), unit_of(c), false);
+    }
     doc += "      </Grid>\n";
   }
   doc += "    </Grid>\n  </Domain>\n</Xdmf>\n";
@@ -92,7 +111,7 @@ XdmfEntry XdmfSeries::entry_for(const std::filesystem::path& snapshot) const {
   e.file = std::filesystem::relative(snapshot, base).generic_string();
   e.time = info.header.time;
   e.particles = info.particles;
-  e.columns = info.columns;
+  e.datasets = info.datasets;
   return e;
 }
 

@@ -3,6 +3,7 @@
 // composed kernel (kernels/constitutive/composed_kernel.hpp). One virtual call per group and
 // step; the particle loop inside has no model branches.
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <utility>
@@ -30,7 +31,9 @@ class ComposedModel final : public MaterialModel {
   std::string name() const override { return name_; }
 
   FieldSet fields() const override {
-    FieldSet f = Strength::kFields | Damage::kFields;
+    // The peak-pressure tracer is every composed material's, so both solvers (MPM and SPH, which
+    // call update() per group) keep it without code of their own.
+    FieldSet f = Strength::kFields | Damage::kFields | FieldSet{Field::peak_pressure};
     if constexpr (Damage::kEnabled) f = f | kDeviator;
     return f;
   }
@@ -39,12 +42,22 @@ class ComposedModel final : public MaterialModel {
 
   void initialise(ParticleStore& store, Range range) const override {
     kernel_.initialise(gather_columns(store, fields(), false), range.begin, range.end);
+    if (!store.has(Field::peak_pressure)) return;  // a store made without the model's fields
+    const auto p = store.col(Field::pressure);
+    auto peak = store.col(Field::peak_pressure);
+    for (std::size_t k = range.begin; k < range.end; ++k) peak[k] = p[k];
   }
 
   void update(ParticleStore& store, Range range, const ConstitutiveContext& ctx) const override {
     const constitutive::StepParams sp{ctx.dt, ctx.cell_size, ctx.viscosity.linear,
                                       ctx.viscosity.quadratic};
     kernel_.update(gather_columns(store, fields(), true), range.begin, range.end, sp);
+    // Peak-pressure tracer: the largest EOS pressure (the kernel's step 3, Eqs. 8-12) seen so
+    // far, what iSALE and CTH report as peak shock pressure. Per point: thread-independent.
+    if (!store.has(Field::peak_pressure)) return;
+    const auto p = store.col(Field::pressure);
+    auto peak = store.col(Field::peak_pressure);
+    for (std::size_t k = range.begin; k < range.end; ++k) peak[k] = std::max(peak[k], p[k]);
   }
 
   const constitutive::ComposedKernel<Eos, Strength, Damage>& kernel() const { return kernel_; }

@@ -27,6 +27,7 @@ const std::vector<std::string> kDefaultColumns = {"x",
                                                   "rho",
                                                   "energy",
                                                   "pressure",
+                                                  "peak_pressure",
                                                   "damage",
                                                   "plastic_strain",
                                                   "sxx",
@@ -171,7 +172,7 @@ void read_output(Reader& root, Scene& scene) {
   }
   Reader r(*t, "output", root.where("output"));
   r.allow({"directory", "snapshot_every", "columns", "checkpoint_every", "timeseries_every",
-           "progress_every", "fragments"});
+           "progress_every", "fragments", "snapshot_precision"});
   r.reject_unknown();
   OutputSpec& o = scene.output;
   o.directory = r.string("directory", "out/" + scene.name);
@@ -197,6 +198,8 @@ void read_output(Reader& root, Scene& scene) {
   if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");
   o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));
   o.fragments = r.boolean("fragments", true);
+  // Snapshots only: checkpoints are always binary64 (a resume continues bit for bit).
+  o.single_precision = r.choice("snapshot_precision", "double", {"double", "single"}) == "single";
 
   r.note_type("columns", "\"default\", \"all\" or array of column names");
   const toml::node* c = r.table().get("columns");

@@ -73,6 +73,8 @@ enum class Field : std::uint8_t {
   vgrad_zx,
   vgrad_zy,
   vgrad_zz,
+  // tracer: the largest pressure a point has seen (Pa), kept by the constitutive update
+  peak_pressure,
   kCount
 };
 
@@ -86,7 +88,7 @@ inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "sdev_xx",  "sdev_yy",  "sdev_zz",  "sdev_xy",  "sdev_yz",    "sdev_xz",   "plastic_strain",
     "heat",     "damage",   "eps_min",  "eps_max",  "n_flaws",    "weibull_m", "n_active",
     "vgrad_xx", "vgrad_xy", "vgrad_xz", "vgrad_yx", "vgrad_yy",   "vgrad_yz",  "vgrad_zx",
-    "vgrad_zy", "vgrad_zz"};
+    "vgrad_zy", "vgrad_zz", "peak_pressure"};
 
 // Integer columns (64-bit so that particle ids never overflow).
 enum class IField : std::uint8_t { id, body, fragment, kCount };

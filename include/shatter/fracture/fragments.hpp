@@ -48,12 +48,18 @@ struct Fragment {
   Eigen::Vector3d omega = Eigen::Vector3d::Zero();
   std::array<double, 3> axes{};  // a >= b >= c of the equivalent ellipsoid
   double volume = 0.0;
+  // Composition (add_composition): mass from each body and each material, kg, indexed as the
+  // catalogue's body_names and material_names; empty until computed.
+  std::vector<double> mass_by_body;
+  std::vector<double> mass_by_material;
 };
 
 struct FragmentCatalogue {
   std::vector<Fragment> fragments;  // sorted by mass, largest first
   double dust_mass = 0.0;           // material below resolution (in no fragment)
   double total_mass = 0.0;
+  std::vector<std::string> body_names;      // composition columns; empty = no composition
+  std::vector<std::string> material_names;  // distinct, in order of first use by a body
 };
 
 // Finds fragments; if the store has IField::fragment it is filled (-1 = dust). The result does
@@ -80,8 +86,51 @@ std::vector<CumulativePoint> cumulative_mass_distribution(const FragmentCatalogu
 
 void write_fragments_csv(const FragmentCatalogue& cat, const std::filesystem::path& file);
 void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::path& file);
-// pkdgrav-style text: mass, radius of equal volume, position, velocity, spin per fragment.
-void write_fragments_pkdgrav(const FragmentCatalogue& cat, const std::filesystem::path& file);
+// Mass of each fragment from each body and material. `store` holds the fragment labels
+// (IField::fragment, as find_fragments leaves them) and IField::body; body b is made of
+// material body_materials[b]. Throws std::invalid_argument when a body has no name.
+void add_composition(FragmentCatalogue& cat, const ParticleStore& store,
+                     const std::vector<std::string>& body_names,
+                     const std::vector<std::string>& body_materials);
+
+// pkdgrav's binary "ss" format (ssio.h of pkdgrav, D. C. Richardson 1998; e.g. the copy in
+// N-BodyShop/gasoline): XDR (big-endian), a 16-byte header {double time; int n_data; int pad}
+// (pad = -1, which newer ssio versions read as SSIO_MAGIC_STANDARD) and 96-byte records {double
+// mass, radius, pos[3], vel[3], spin[3]; int color, org_idx}, in pkdgrav units: G = 1, length
+// 1 AU, mass 1 solar mass, time 1 yr / 2 pi (docs/outputs.md, "N-body hand-off").
+struct SsRecord {  // SI units
+  double mass = 0.0;
+  double radius = 0.0;
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero();
+  Eigen::Vector3d vel = Eigen::Vector3d::Zero();
+  Eigen::Vector3d spin = Eigen::Vector3d::Zero();
+  std::int32_t color = 0;
+  std::int32_t org_idx = 0;
+};
+struct SsFile {
+  double time = 0.0;  // s
+  std::vector<SsRecord> records;
+};
+namespace pkdgrav_units {
+inline constexpr double kLength = 1.495978707e11;  // m, the astronomical unit (IAU 2012)
+inline constexpr double kGM = 1.32712440018e20;    // m^3/s^2, heliocentric GM (IAU 2009)
+inline constexpr double kG = 6.67430e-11;          // m^3/(kg s^2), CODATA 2018
+inline constexpr double kMass = kGM / kG;          // kg: G = 1 with this mass unit
+double time();                                     // s, sqrt(AU^3 / GM) ~ 1 yr / 2 pi
+}  // namespace pkdgrav_units
+void write_ss(const SsFile& ss, const std::filesystem::path& file);
+SsFile read_ss(const std::filesystem::path& file);  // throws naming the file when malformed
+// Colour of body b in ss files: pkdgrav's palette from green (3), skipping its reserved colours
+// 2 (Jupiter) and 5 (Sun); dust (no fragment) is 1.
+std::int32_t ss_body_colour(std::int64_t body);
+std::int32_t ss_fragment_colour(std::int64_t fragment);
+// One record per fragment: mass, radius of equal volume, centre, velocity, spin; colour = the
+// body giving most of its mass (needs add_composition; else 3), org_idx = fragment id.
+SsFile fragments_ss(const FragmentCatalogue& cat, double time);
+// One record per particle (every point still in the simulation, for rubble-pile
+// reaccumulation): radius of its volume (mass / rho), colour = its fragment (dust 1),
+// org_idx = its index. Needs mass, rho, positions, velocities and IField::fragment.
+SsFile particles_ss(const ParticleStore& store, double time);
 void write_cumulative_mass_csv(const FragmentCatalogue& cat, const std::filesystem::path& file);
 
 }  // namespace shatter

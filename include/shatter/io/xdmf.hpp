@@ -1,7 +1,9 @@
 #pragma once
-// XDMF (version 2) sidecar: one .xmf file describing all snapshots of a run as a temporal
-// collection of Polyvertex grids, every column an attribute, the data left in the HDF5 files.
-// ParaView (Xdmf Reader) opens it as a time series.
+// XDMF (version 3) sidecar: one .xmf file describing all snapshots of a run as a temporal
+// collection of Polyvertex grids: positions as XYZ geometry, velocity a Vector, stress a Tensor6,
+// every other column a Scalar attribute, the data left in the HDF5 files. ParaView's default
+// Xdmf3 reader (and the legacy XDMF reader, and meshio) opens it as a time series
+// (tests/python/test_xdmf_paraview.py checks this with ParaView's own reader).
 
 #include <cstddef>
 #include <filesystem>
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "shatter/io/columns.hpp"
+#include "shatter/io/snapshot.hpp"
 
 namespace shatter::io {
 
@@ -16,7 +19,7 @@ struct XdmfEntry {
   std::string file;  // snapshot path relative to the .xmf file
   double time = 0.0;
   std::size_t particles = 0;
-  ColumnSelection columns;  // must include x, y, z
+  std::vector<SnapshotDataset> datasets;  // must include position (or x, y, z)
 };
 
 // The XDMF document for `entries` (in the order given).

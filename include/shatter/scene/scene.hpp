@@ -68,6 +68,7 @@ struct OutputSpec {
   std::int64_t timeseries_every = 10;  // steps
   double progress_every = 5.0;         // s of wall time between progress lines
   bool fragments = true;               // fragment catalogue of the last snapshot
+  bool single_precision = false;       // snapshot_precision = "single": binary32 snapshots
 };
 
 struct FractureSettings {

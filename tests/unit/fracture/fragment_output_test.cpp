@@ -1,10 +1,13 @@
-// Fragment tables: CSV, HDF5 and pkdgrav-style files read back, and the cumulative mass
-// distribution.
+// Fragment tables: CSV, HDF5 and pkdgrav ss files read back, fragment composition, and the
+// cumulative mass distribution.
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -94,19 +97,93 @@ TEST(FragmentOutput, Hdf5TablesReadBack) {
   H5Fclose(h5);
 }
 
-TEST(FragmentOutput, PkdgravRowsHoldMassRadiusPositionVelocitySpin) {
-  // Radius of equal volume: (3 V / 4 pi)^(1/3) with V = 5 kg / 2700 kg/m^3 -> 7.6180e-2 m (hand
-  // value to 5 digits, hence 1e-6).
-  const auto file = scratch("fragments.pkd");
-  write_fragments_pkdgrav(sample(), file);
+TEST(FragmentOutput, SsFileHasPkdgravsBigEndianLayoutAndUnits) {
+  // ssio.h: 16-byte header {double time; int n_data; int pad}, 96-byte records, XDR big-endian.
+  auto cat = sample();
+  const auto file = scratch("fragments.ss");
+  write_ss(fragments_ss(cat, 0.0), file);
+  std::ifstream in(file, std::ios::binary);
+  const std::string b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(b.size(), 16U + 4U * 96U);
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(b[k]); };
+  for (std::size_t k = 0; k < 8; ++k) EXPECT_EQ(byte(k), 0U) << k;  // time 0.0
+  EXPECT_EQ(byte(11), 4U);                                          // n_data = 4, big-endian
+  EXPECT_EQ(byte(12), 0xffU);                                       // pad = -1 (magic)
+  // The first record's mass: 5 kg / M_sun (M_sun = GM_sun / G = 1.98841e30 kg) = 2.5146e-30,
+  // whose binary64 exponent byte pair is 0x39 0xc9 (hand-encoded from the value).
+  EXPECT_EQ(byte(16), 0x39U);
+  EXPECT_EQ(byte(17), 0xc9U);
+}
+
+TEST(FragmentOutput, SsRoundTripRestoresSiValuesColoursAndIds) {
+  // Unit conversion both ways: relative error of one binary64 rounding per factor, 1e-14.
+  auto cat = sample();
+  cat.fragments[1].mass_by_body = {0.5, 1.5};  // body 1 dominates: colour 4
+  const auto file = scratch("fragments_rt.ss");
+  write_ss(fragments_ss(cat, 2.5e-4), file);
+  const SsFile back = read_ss(file);
+  EXPECT_NEAR(back.time, 2.5e-4, 1e-14 * 2.5e-4);
+  ASSERT_EQ(back.records.size(), 4U);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Fragment& f = cat.fragments[i];
+    const SsRecord& r = back.records[i];
+    EXPECT_NEAR(r.mass, f.mass, 1e-14 * f.mass);
+    EXPECT_NEAR(r.radius, std::cbrt(3.0 * f.volume / (4.0 * std::numbers::pi)), 1e-14);
+    EXPECT_NEAR((r.pos - f.centre).norm(), 0.0, 1e-14 * (1.0 + f.centre.norm()));
+    EXPECT_NEAR((r.vel - f.velocity).norm(), 0.0, 1e-14 * (1.0 + f.velocity.norm()));
+    EXPECT_NEAR((r.spin - f.omega).norm(), 0.0, 1e-14 * (1.0 + f.omega.norm()));
+    EXPECT_EQ(r.org_idx, static_cast<std::int32_t>(i));
+  }
+  EXPECT_EQ(back.records[0].color, 3);  // no composition: body 0's colour
+  EXPECT_EQ(back.records[1].color, 4);
+  // pkdgrav's time unit is a year / 2 pi: sqrt(AU^3 / GM_sun) = 5.0226e6 s (to 5 digits).
+  EXPECT_NEAR(pkdgrav_units::time(), 5.0226e6, 1e2);
+}
+
+TEST(FragmentOutput, TruncatedSsFileIsRefusedByName) {
+  const auto file = scratch("short.ss");
+  write_ss(fragments_ss(sample(), 0.0), file);
+  std::filesystem::resize_file(file, 16 + 96 + 10);
+  try {
+    read_ss(file);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("short.ss"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FragmentOutput, CompositionSumsMassPerBodyAndMaterialIntoTheTables) {
+  // Three points: fragment 0 = body 0 (1 kg) + body 1 (2 kg); body 2 shares body 0's material.
+  ParticleStore store;
+  store.require(FieldSet{Field::mass});
+  store.require(IField::fragment);
+  store.require(IField::body);
+  store.add_group(0, 4);
+  const double m[] = {1.0, 2.0, 4.0, 8.0};
+  const std::int64_t frag[] = {0, 0, 1, -1}, body[] = {0, 1, 2, 2};
+  for (std::size_t p = 0; p < 4; ++p) {
+    store.col(Field::mass)[p] = m[p];
+    store.col(IField::fragment)[p] = frag[p];
+    store.col(IField::body)[p] = body[p];
+  }
+  FragmentCatalogue cat;
+  cat.fragments.resize(2);
+  cat.fragments[0].mass = 3.0;
+  cat.fragments[1].id = 1;
+  cat.fragments[1].mass = 4.0;
+  add_composition(cat, store, {"target", "projectile", "moon"}, {"basalt", "nylon", "basalt"});
+  ASSERT_EQ(cat.material_names, (std::vector<std::string>{"basalt", "nylon"}));
+  EXPECT_EQ(cat.fragments[0].mass_by_body, (std::vector<double>{1.0, 2.0, 0.0}));
+  EXPECT_EQ(cat.fragments[0].mass_by_material, (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(cat.fragments[1].mass_by_material, (std::vector<double>{4.0, 0.0}));
+  const auto file = scratch("composition.csv");
+  write_fragments_csv(cat, file);
   const auto l = lines(file);
-  ASSERT_EQ(l.size(), 6U);
-  std::istringstream row(l[2]);
-  double v[12];
-  for (double& x : v) row >> x;
-  EXPECT_EQ(v[1], 5.0);
-  EXPECT_NEAR(v[2], 7.6180e-2, 1e-6);
-  EXPECT_EQ(v[8], 1.0);
+  EXPECT_NE(l[1].find(",mass_body_target_kg,mass_body_projectile_kg,mass_body_moon_kg,"
+                      "mass_material_basalt_kg,mass_material_nylon_kg"),
+            std::string::npos)
+      << l[1];
+  EXPECT_NE(l[2].rfind(",1,2,0,1,2"), std::string::npos) << l[2];
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -14,6 +15,12 @@ namespace {
 
 using test::sample_store;
 using test::ScratchDir;
+
+SnapshotOptions single_precision() {
+  SnapshotOptions o;
+  o.single_precision = true;
+  return o;
+}
 
 std::string string_attr(hid_t obj, const char* name) {
   const hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
@@ -83,8 +90,8 @@ TEST(Snapshot, FileCarriesTimeStepAndUnitsAttributes) {
   EXPECT_EQ(string_attr(f, "time_units"), "s");
 
   const std::pair<const char*, const char*> expected[] = {
-      {"/particles/x", "m"},        {"/particles/vx", "m/s"},      {"/particles/mass", "kg"},
-      {"/particles/rho", "kg/m^3"}, {"/particles/energy", "J/kg"}, {"/particles/damage", "1"},
+      {"/particles/position", "m"}, {"/particles/velocity", "m/s"}, {"/particles/mass", "kg"},
+      {"/particles/rho", "kg/m^3"}, {"/particles/energy", "J/kg"},  {"/particles/damage", "1"},
       {"/particles/id", "1"}};
   for (const auto& [path, units] : expected) {
     const hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
@@ -138,6 +145,72 @@ TEST(Snapshot, EmptyStoreRoundTrips) {
   store.require(kPosition);
   write_snapshot(dir / "s.h5", store, {}, all_columns(store));
   EXPECT_EQ(read_snapshot(dir / "s.h5").particles.size(), 0u);
+}
+
+TEST(Snapshot, VectorsAndStressAreTwoDimensionalDatasetsThatReadBackExactly) {
+  ScratchDir dir;
+  ParticleStore store = sample_store();
+  store.require(kStress);
+  for (std::size_t p = 0; p < store.size(); ++p) {
+    store.col(Field::sxy)[p] = 1.0 / (p + 1.0);
+    store.col(Field::szz)[p] = -std::sqrt(p + 2.0);
+  }
+  write_snapshot(dir / "s.h5", store, {}, all_columns(store));
+  const hid_t f = H5Fopen((dir / "s.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  for (const auto& [path, cols] : {std::pair{"/particles/position", 3},
+                                   {"/particles/velocity", 3},
+                                   {"/particles/stress", 6}}) {
+    const hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
+    ASSERT_GE(d, 0) << path;
+    const hid_t space = H5Dget_space(d);
+    hsize_t dims[2] = {0, 0};
+    EXPECT_EQ(H5Sget_simple_extent_dims(space, dims, nullptr), 2) << path;
+    EXPECT_EQ(dims[0], store.size());
+    EXPECT_EQ(dims[1], static_cast<hsize_t>(cols));
+    H5Sclose(space);
+    H5Dclose(d);
+  }
+  EXPECT_LT(H5Lexists(f, "/particles/x", H5P_DEFAULT), 1);
+  H5Fclose(f);
+  // Exact: binary64 values, only rearranged.
+  const Snapshot back = read_snapshot(dir / "s.h5");
+  for (Field c : all_columns(store).fields) {
+    for (std::size_t p = 0; p < store.size(); ++p) {
+      EXPECT_EQ(back.particles.col(c)[p], store.col(c)[p]) << name_of(c) << " " << p;
+    }
+  }
+}
+
+TEST(Snapshot, BodyAndMaterialNamesRoundTrip) {
+  ScratchDir dir;
+  const ParticleStore store = sample_store();
+  SnapshotOptions o;
+  o.body_names = {"target", "projectile"};
+  o.material_names = {"basalt", "nylon_6_6"};
+  write_snapshot(dir / "s.h5", store, {}, all_columns(store), o);
+  const Snapshot back = read_snapshot(dir / "s.h5");
+  EXPECT_EQ(back.body_names, o.body_names);
+  EXPECT_EQ(back.material_names, o.material_names);
+}
+
+TEST(Snapshot, SinglePrecisionStoresBinary32AndReadsBackRounded) {
+  // Each value comes back as its nearest binary32: relative error at most 2^-24.
+  ScratchDir dir;
+  const ParticleStore store = sample_store();
+  write_snapshot(dir / "s.h5", store, {}, all_columns(store), single_precision());
+  const SnapshotInfo info = inspect_snapshot(dir / "s.h5");
+  for (const SnapshotDataset& d : info.datasets) {
+    EXPECT_EQ(d.bytes, d.real ? 4u : 8u) << d.name;
+  }
+  const Snapshot back = read_snapshot(dir / "s.h5");
+  for (Field c : all_columns(store).fields) {
+    for (std::size_t p = 0; p < store.size(); ++p) {
+      const double v = store.col(c)[p];
+      EXPECT_EQ(back.particles.col(c)[p], static_cast<double>(static_cast<float>(v))) << name_of(c);
+      EXPECT_LE(std::abs(back.particles.col(c)[p] - v), std::ldexp(std::abs(v), -24));
+    }
+  }
+  EXPECT_EQ(back.particles.col(IField::id)[3], store.col(IField::id)[3]);
 }
 
 }  // namespace

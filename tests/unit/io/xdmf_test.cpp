@@ -17,6 +17,12 @@ namespace {
 using test::sample_store;
 using test::ScratchDir;
 
+SnapshotOptions single_precision() {
+  SnapshotOptions o;
+  o.single_precision = true;
+  return o;
+}
+
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (auto pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1)) ++n;
@@ -33,7 +39,11 @@ std::string slurp(const std::filesystem::path& p) {
 TEST(Xdmf, SeriesListsEverySnapshotAsATimeStepWithEveryColumn) {
   ScratchDir dir;
   std::filesystem::create_directories(dir / "snapshots");
-  const ParticleStore store = sample_store();
+  ParticleStore store = sample_store();
+  store.require(kStress);
+  for (Field f : {Field::sxx, Field::syy, Field::szz, Field::sxy, Field::syz, Field::sxz}) {
+    store.col(f)[1] = 1.0 + static_cast<double>(f);
+  }
   const ColumnSelection cols = all_columns(store);
   XdmfSeries series(dir / "particles.xmf");
   for (int k = 0; k < 3; ++k) {
@@ -47,12 +57,22 @@ TEST(Xdmf, SeriesListsEverySnapshotAsATimeStepWithEveryColumn) {
   EXPECT_EQ(count(doc, "<Time Value="), 3u);
   EXPECT_NE(doc.find("<Time Value=\"2e-06\" />"), std::string::npos) << doc;
   EXPECT_EQ(count(doc, "TopologyType=\"Polyvertex\" NumberOfElements=\"8\""), 3u);
-  EXPECT_EQ(count(doc, "GeometryType=\"X_Y_Z\""), 3u);
-  // Every real and integer column is an attribute of every time step.
-  for (const auto& name : cols.names()) {
-    EXPECT_EQ(count(doc, "<Attribute Name=\"" + name + "\""), 3u) << name;
+  // Positions as one N x 3 dataset (XYZ: ParaView's Xdmf3 reader ignores X_Y_Z), velocity a
+  // vector, stress a Tensor6; every other column a scalar.
+  EXPECT_EQ(count(doc, "GeometryType=\"XYZ\""), 3u);
+  EXPECT_NE(doc.find("<DataItem Dimensions=\"8 3\" NumberType=\"Float\" Precision=\"8\" "
+                     "Format=\"HDF\">snapshots/snapshot_000001.h5:/particles/position"),
+            std::string::npos)
+      << doc;
+  EXPECT_EQ(count(doc, "<Attribute Name=\"velocity\" AttributeType=\"Vector\""), 3u);
+  EXPECT_EQ(count(doc, "<Attribute Name=\"stress\" AttributeType=\"Tensor6\""), 3u);
+  EXPECT_NE(doc.find("<DataItem Dimensions=\"8 6\""), std::string::npos);
+  for (const char* name : {"mass", "volume0", "rho", "damage", "energy", "id", "body"}) {
+    EXPECT_EQ(count(doc, std::string("<Attribute Name=\"") + name + "\" AttributeType=\"Scalar\""),
+              3u)
+        << name;
   }
-  EXPECT_NE(doc.find("snapshots/snapshot_000001.h5:/particles/vx"), std::string::npos);
+  EXPECT_EQ(count(doc, "<Attribute "), 3u * 9u);  // velocity, stress and the 7 scalars
   EXPECT_NE(doc.find("NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">"
                      "snapshots/snapshot_000002.h5:/particles/id"),
             std::string::npos);
@@ -83,8 +103,26 @@ TEST(Xdmf, SnapshotWithoutPositionsCannotBeDescribed) {
   XdmfEntry e;
   e.file = "a.h5";
   e.particles = 1;
-  e.columns = select_columns({"x", "y", "damage"});
+  for (const char* name : {"x", "y", "damage"}) {
+    SnapshotDataset d;
+    d.name = name;
+    e.datasets.push_back(d);
+  }
   EXPECT_THROW(xdmf_document({e}), std::invalid_argument);
+}
+
+TEST(Xdmf, SinglePrecisionSnapshotsAreDescribedAsFourByteFloats) {
+  ScratchDir dir;
+  const ParticleStore store = sample_store();
+  write_snapshot(dir / "s.h5", store, {}, all_columns(store), single_precision());
+  XdmfSeries series(dir / "p.xmf");
+  series.add(dir / "s.h5");
+  const std::string doc = slurp(dir / "p.xmf");
+  EXPECT_NE(doc.find("Dimensions=\"8 3\" NumberType=\"Float\" Precision=\"4\""), std::string::npos)
+      << doc;
+  // Integer columns stay 64-bit.
+  EXPECT_NE(doc.find("NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">s.h5:/particles/id"),
+            std::string::npos);
 }
 
 }  // namespace
