@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages shatter needs (DESIGN.md, "Dependencies"). Idempotent: does
 # nothing when everything is already installed. Needs root (or sudo) only when it installs.
+# `setup.sh --tests` also installs what only the tests need (tools/test.sh passes it), so the
+# main command (tools/run-main.sh) does not download ParaView.
 set -euo pipefail
 
 packages=(
@@ -9,11 +11,19 @@ packages=(
   libbenchmark-dev libgtest-dev libgmock-dev
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   python3 python3-numpy python3-matplotlib python3-h5py
+)
+test_packages=(
   # tests of the Python package (python/tests): pytest, and ParaView 5.11's own Xdmf3 reader for
   # particles.xmf (about 140 MB to download; Debian's VTK 9.1 has no Xdmf3 reader, and its
   # python3-xdmf bindings do not import)
   python3-pytest python3-paraview
 )
+if [ "${1:-}" = "--tests" ]; then
+  packages+=("${test_packages[@]}")
+elif [ $# -gt 0 ]; then
+  echo "setup.sh: unknown option '$1' (the only option is --tests)" >&2
+  exit 2
+fi
 
 missing=()
 for p in "${packages[@]}"; do
