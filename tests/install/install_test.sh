@@ -38,7 +38,7 @@ grep -q "SHATTER_DATA_DIR=/nonexistent" err.txt || fail "unclear error: $(cat er
 if [ -d "$source/python/shatterpy" ]; then
   site=$(ls -d "$prefix"/lib*/python*/site-packages 2>/dev/null | head -1)
   [ -f "$site/shatterpy/__init__.py" ] || fail "shatterpy not installed under lib*/python*/site-packages"
-  where=$(PYTHONPATH=$site python3 -c 'import shatterpy; print(shatterpy.__file__)') ||
+  where=$(PYTHONPATH=$site /usr/bin/python3 -c 'import shatterpy; print(shatterpy.__file__)') ||
     fail "import shatterpy failed from $site"
   [[ $where == "$site"/* ]] || fail "shatterpy imported from $where, not the prefix"
 fi
