@@ -122,8 +122,7 @@ int main(int argc, char** argv) {
   auto* threshold_opt =
       fragments->add_option("--threshold", threshold, "damage at which a point has failed");
   auto* method_opt = fragments->add_option("--method", method, "grid_density | friends_of_friends");
-  auto* prefix_opt =
-      fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.ss");
+  auto* prefix_opt = fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.ss");
   double smoothing_factor = 0.0, static_strength = 0.0;
   auto* smoothing_opt = fragments->add_option(
       "--smoothing-factor", smoothing_factor,

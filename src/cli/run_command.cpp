@@ -22,9 +22,8 @@ bool holds_a_run(const std::filesystem::path& out) {
 
 void clear_run(const std::filesystem::path& out) {
   std::filesystem::remove_all(snapshot_dir(out));
-  for (const char* name :
-       {"scene.toml", "checkpoint.h5", "checkpoint.h5.tmp", "particles.xmf", "timeseries.csv",
-        "fragments.csv", "fragments.h5", "fragments.ss"}) {
+  for (const char* name : {"scene.toml", "checkpoint.h5", "checkpoint.h5.tmp", "particles.xmf",
+                           "timeseries.csv", "fragments.csv", "fragments.h5", "fragments.ss"}) {
     std::filesystem::remove(out / name);
   }
   for (const auto& e : std::filesystem::directory_iterator(out)) {

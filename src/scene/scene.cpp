@@ -16,28 +16,17 @@ namespace {
 
 // The columns written when the scene does not list them: what the paper's figures and the
 // fragment search need.
-const std::vector<std::string> kDefaultColumns = {"x",
-                                                  "y",
-                                                  "z",
-                                                  "vx",
-                                                  "vy",
-                                                  "vz",
-                                                  "mass",
-                                                  "volume0",
-                                                  "rho",
-                                                  "energy",
-                                                  "pressure",
-                                                  "peak_pressure",
-                                                  "damage",
-                                                  "plastic_strain",
-                                                  "sxx",
-                                                  "syy",
-                                                  "szz",
-                                                  "sxy",
-                                                  "syz",
-                                                  "sxz",
-                                                  "id",
-                                                  "body"};
+const std::vector<std::string> kDefaultColumns = {"x",        "y",
+                                                  "z",        "vx",
+                                                  "vy",       "vz",
+                                                  "mass",     "volume0",
+                                                  "rho",      "energy",
+                                                  "pressure", "peak_pressure",
+                                                  "damage",   "plastic_strain",
+                                                  "sxx",      "syy",
+                                                  "szz",      "sxy",
+                                                  "syz",      "sxz",
+                                                  "id",       "body"};
 
 Scene parse(toml::table doc, const std::string& source, const std::vector<std::string>& overrides,
             const std::filesystem::path& base_dir, Points points) {

@@ -80,6 +80,8 @@ enum class Field : std::uint8_t {
 
 inline constexpr std::size_t kFieldCount = static_cast<std::size_t>(Field::kCount);
 
+// A table, seven names a row, rather than one name a line.
+// clang-format off
 inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "x",        "y",        "z",        "vx",       "vy",         "vz",        "mass",
     "volume0",  "size0",    "rho",      "energy",   "sxx",        "syy",       "szz",
@@ -89,6 +91,7 @@ inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "heat",     "damage",   "eps_min",  "eps_max",  "n_flaws",    "weibull_m", "n_active",
     "vgrad_xx", "vgrad_xy", "vgrad_xz", "vgrad_yx", "vgrad_yy",   "vgrad_yz",  "vgrad_zx",
     "vgrad_zy", "vgrad_zz", "peak_pressure"};
+// clang-format on
 
 // Integer columns (64-bit so that particle ids never overflow).
 enum class IField : std::uint8_t { id, body, fragment, kCount };
