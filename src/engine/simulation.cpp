@@ -900,19 +900,7 @@ void Simulation::Impl::time_step() {
   clk.dt_prev = dt_step;
   ++clk.step;
   clk.dt = stable_dt();
-  if (!std::isfinite(clk.dt)) {
-    throw NumericalError(fmt::format("time step is not finite at step {} (no sound speed and no "
-                                     "motion, and no dt_max set)",
-                                     clk.step),
-                         0, clk.step);
-  }
-  if (clk.dt < sim.config_.dt_min) {
-    throw NumericalError(
-        fmt::format(
-            "time step collapsed to {:.3e} s (< dt_min = {:.3e} s) at step {}, t = {:.6e} s",
-            clk.dt, sim.config_.dt_min, clk.step, clk.time),
-        0, clk.step);
-  }
+  check_new_time_step(clk, sim.config_.dt_min, "no sound speed and no motion, and no dt_max set");
 }
 
 }  // namespace shatter

@@ -32,4 +32,19 @@ void check_solver_inputs(const ParticleStore& particles, const std::vector<Mater
   }
 }
 
+void check_new_time_step(const Clock& clk, double dt_min, std::string_view why_not_finite) {
+  if (!std::isfinite(clk.dt)) {
+    throw NumericalError(
+        fmt::format("time step is not finite at step {} ({})", clk.step, why_not_finite), 0,
+        clk.step);
+  }
+  if (clk.dt < dt_min) {
+    throw NumericalError(
+        fmt::format(
+            "time step collapsed to {:.3e} s (< dt_min = {:.3e} s) at step {}, t = {:.6e} s",
+            clk.dt, dt_min, clk.step, clk.time),
+        0, clk.step);
+  }
+}
+
 }  // namespace shatter

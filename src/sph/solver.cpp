@@ -607,19 +607,7 @@ struct SphSolver::Impl {
   void next_dt() {
     Clock& clk = s.clock_;
     clk.dt = stable_dt();
-    if (!std::isfinite(clk.dt)) {
-      throw NumericalError(fmt::format("time step is not finite at step {} (no sound speed, no "
-                                       "force, and no dt_max set)",
-                                       clk.step),
-                           0, clk.step);
-    }
-    if (clk.dt < s.config_.dt_min) {
-      throw NumericalError(
-          fmt::format(
-              "time step collapsed to {:.3e} s (< dt_min = {:.3e} s) at step {}, t = {:.6e} s",
-              clk.dt, s.config_.dt_min, clk.step, clk.time),
-          0, clk.step);
-    }
+    check_new_time_step(clk, s.config_.dt_min, "no sound speed, no force, and no dt_max set");
   }
 
   // The first particle (lowest index) whose state is not finite, or whose density is not
