@@ -1,5 +1,5 @@
 // The elastic constitutive part of the step (App. A.2 step 7): the velocity-gradient stage
-// (kernels::velocity_gradient_particle: strain and spin increments, density) and the engine's
+// (kernels::velocity_gradient_block: strain and spin increments, density) and the engine's
 // linear elastic model (LinearElastic::update: Jaumann rotation, Hooke increment, energy,
 // pressure, sound speed), each alone.
 #include <memory>
@@ -21,22 +21,21 @@ void BM_VelocityGradient(benchmark::State& state) {
   const SparseGrid& grid = body.grid;
   // dt = 1e-12: repeated density updates stay at rho0.
   kernels::GradientParticles in = engine::gradient_inputs(P, 1.0 / bench::kCell, 1e-12);
+  in.stencil = body.stencils(kernels::StencilCache::kLoad);
   tbb::task_arena arena(static_cast<int>(state.range(1)));
   arena.execute([&] {
     for (auto _ : state) {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), bench::kParticleGrain),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t p = r.begin(); p < r.end(); ++p) {
-                            const std::uint32_t b = grid.owner_of(p);
-                            kernels::velocity_gradient_particle<Shape>(
-                                in, p, grid.coord(b), grid.neighbours(b), grid.nodes());
-                          }
-                        });
+      bench::gather_blocks<kernels::GradientWindow>(
+          grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
+                    const std::uint32_t* nb, kernels::GradientWindow& win) {
+            kernels::velocity_gradient_block<Shape>(in, run, owner, nb, grid.nodes(), win);
+          });
       benchmark::ClobberMemory();
     }
   });
   bench::report(state, P, grid.bytes());
-  state.counters["col_bytes_rw"] = 8.0 * 14;  // x, size0, rho (rw), 9 increments
+  // x, size0, rho (rw), 9 increments; the stored stencil (18 doubles + 1 byte)
+  state.counters["col_bytes_rw"] = 8.0 * 14 + 8.0 * kernels::Stencil<Shape>::kRow + 1.0;
 }
 
 void BM_ElasticUpdate(benchmark::State& state) {

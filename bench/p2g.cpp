@@ -13,7 +13,8 @@ using namespace shatter;
 template <class Shape>
 void BM_P2G(benchmark::State& state) {
   bench::Prepared<Shape> body(state.range(0));
-  const auto in = bench::p2g_inputs(body.store, true);
+  auto in = bench::p2g_inputs(body.store, true);
+  in.stencil = body.stencils(kernels::StencilCache::kLoad);  // as the engine's P2G
   tbb::task_arena arena(static_cast<int>(state.range(1)));
   arena.execute([&] {
     for (auto _ : state) {
@@ -32,15 +33,13 @@ void BM_P2G(benchmark::State& state) {
 BENCHMARK(BM_P2G<kernels::GimpShape>)->Name("p2g/ugimp")->Apply(bench::sizes_and_threads);
 BENCHMARK(BM_P2G<kernels::LinearShape>)
     ->Name("p2g/linear")
-    ->ArgNames({"particles", "threads"})
-    ->Args({1'000'000, 1})
+    ->Apply(bench::one_thread)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MeasureProcessCPUTime();
 BENCHMARK(BM_P2G<kernels::BSpline2Shape>)
     ->Name("p2g/bspline2")
-    ->ArgNames({"particles", "threads"})
-    ->Args({1'000'000, 1})
+    ->Apply(bench::one_thread)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MeasureProcessCPUTime();

@@ -14,7 +14,8 @@ using namespace shatter;
 template <class Shape>
 void BM_Remap(benchmark::State& state) {
   bench::Prepared<Shape> body(state.range(0));
-  const auto in = bench::p2g_inputs(body.store, false);
+  auto in = bench::p2g_inputs(body.store, false);
+  in.stencil = body.stencils(kernels::StencilCache::kLoad);  // as the engine's remap
   tbb::task_arena arena(static_cast<int>(state.range(1)));
   const engine::Boundaries boundaries(Domain{}, bench::kCell);
   const double empty_mass = 1e-12 * body.store.col(Field::mass)[0];

@@ -5,7 +5,9 @@
 //            rebuilt every step in which any particle changed owner block (serial);
 //  reorder - stable sort of the particle order by key and ParticleStore::permute of every
 //            registered column, every reorder_interval (25) steps (serial); measured in the
-//            steady state, on a store that is already block-sorted.
+//            steady state, on a store that is already block-sorted;
+//  stencils - kernels::store_stencils: each particle's weights, gradients and node offsets,
+//            stored for the four transfers of the step (parallel), every step.
 #include <numeric>
 #include <vector>
 
@@ -74,10 +76,34 @@ void BM_Reorder(benchmark::State& state) {
   state.counters["columns"] = bench::column_bytes_per_particle(P) / 8.0;
 }
 
+void BM_Stencils(benchmark::State& state) {
+  ParticleStore P = bench::make_body(state.range(0));
+  bench::sort_by_block<Shape>(P);
+  AlignedVector<double> w(P.size() * kernels::Stencil<Shape>::kRow);
+  std::vector<std::uint8_t> off(P.size());
+  const kernels::StencilCache cache{w.data(), off.data(), kernels::StencilCache::kStore};
+  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  const double* size0 = P.col(Field::size0).data();
+  tbb::task_arena arena(static_cast<int>(state.range(1)));
+  arena.execute([&] {
+    for (auto _ : state) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), bench::kParticleGrain),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          kernels::store_stencils<Shape>(X, size0, 1.0 / bench::kCell, r.begin(),
+                                                         r.end(), cache);
+                        });
+      benchmark::ClobberMemory();
+    }
+  });
+  bench::report(state, P, 0);
+  state.counters["stencil_bytes"] = 8.0 * kernels::Stencil<Shape>::kRow + 1.0;
+}
+
 }  // namespace
 
 BENCHMARK(BM_Keys)->Name("sort/keys")->Apply(shatter::bench::sizes_and_threads);
 BENCHMARK(BM_Assign)->Name("sort/assign")->Apply(shatter::bench::sizes_and_threads);
 BENCHMARK(BM_Reorder)->Name("sort/reorder")->Apply(shatter::bench::sizes_and_threads);
+BENCHMARK(BM_Stencils)->Name("sort/stencils")->Apply(shatter::bench::sizes_and_threads);
 
 BENCHMARK_MAIN();

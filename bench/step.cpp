@@ -6,16 +6,20 @@
 // timed alone in bench_sort (sort/reorder).
 //
 // Counters: items/s = particle-steps per second; bytes/particle = registered particle columns +
-// Simulation::grid_bytes() / particles; <stage>_ns = wall time of that stage per particle-step
-// from Simulation::stage_timings() (stages overlap only where the graph lets them: energy and
-// time_step).
+// Simulation::grid_bytes() / particles; resident_bytes/particle = growth of the resident set over
+// construction and steps (all the step's memory); <stage>_ns = wall time of that stage per
+// particle-step from Simulation::stage_timings() (stages overlap only where the graph lets them:
+// energy and time_step).
 //
 // BM_StepContact: the same body cut at its mid-plane z into two bodies (two particle groups,
 // IField::body 0 and 1) whose halves approach at 2 m/s, so the whole cross-section is an
 // interface; `single_field` and `multi_field` (solver.contact) on identical particles give the
 // cost of multi-velocity-field contact (grid copies where the bodies meet, the extra mass-gradient
 // scatter, the pair corrections) against the shared field.
+#include <unistd.h>
+
 #include <algorithm>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +36,14 @@ using namespace shatter;
 
 constexpr double kDrift = 1000.0;  // m/s
 
+// Resident memory of the process in bytes (/proc/self/statm), 0 where it cannot be read.
+double resident_bytes() {
+  std::ifstream f("/proc/self/statm");
+  double pages = 0.0, resident = 0.0;
+  if (!(f >> pages >> resident)) return 0.0;
+  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
+}
+
 void BM_Step(benchmark::State& state, ShapeKind shape) {
   const auto threads = static_cast<int>(state.range(1));
   SolverConfig cfg;
@@ -39,6 +51,7 @@ void BM_Step(benchmark::State& state, ShapeKind shape) {
   cfg.cell_size = bench::kCell;
   std::vector<MaterialPtr> materials{
       std::make_shared<LinearElastic>(bench::kRho, bench::kYoung, bench::kPoisson)};
+  const double rss0 = resident_bytes();
   Simulation sim(cfg, bench::make_body(state.range(0), kDrift), std::move(materials), threads);
   sim.step();  // warm-up: first allocation of the grid and the step-0 column re-order
   const std::vector<StageTiming> before = sim.stage_timings();
@@ -47,6 +60,10 @@ void BM_Step(benchmark::State& state, ShapeKind shape) {
 
   const double n = static_cast<double>(sim.particles().size());
   bench::report(state, sim.particles(), sim.grid_bytes());
+  // Everything the simulation holds (columns, grid, the step's scratch: stencils, displacements,
+  // the copy kept for a retake), as the growth of the resident set; approximate where the
+  // allocator keeps freed memory, and meaningful with one benchmark per process.
+  state.counters["resident_bytes/particle"] = (resident_bytes() - rss0) / n;
   const double steps = static_cast<double>(state.iterations());
   for (std::size_t s = 0; s < after.size(); ++s) {
     const double ns = 1e9 * (after[s].seconds - before[s].seconds) / (steps * n);

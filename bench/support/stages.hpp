@@ -62,16 +62,46 @@ inline void nodal_velocities(SparseGrid& grid) {
   }
 }
 
-// A prepared body: store sorted by owner block, grid assigned and scattered.
+// The gathers' loop (G2P, velocity gradient), as Simulation::Impl runs it (for_each_run):
+// owner blocks in parallel, each block's particles with the block's window scratch.
+template <class Window, class Body>
+void gather_blocks(const SparseGrid& grid, Body&& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.shared_blocks(), 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      Window win;
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const auto b = static_cast<std::uint32_t>(k);
+                        if (grid.owned(b).empty()) continue;
+                        body(grid.owned(b), grid.coord(b), grid.neighbours(b), win);
+                      }
+                    });
+}
+
+// A prepared body: store sorted by owner block, grid assigned, each particle's stencil stored
+// as the engine's sort stage stores it (StencilCache), and scattered, so that every transfer
+// reads the stencils back as in the engine.
 template <class Shape>
 struct Prepared {
   ParticleStore store;
   SparseGrid grid;
+  AlignedVector<double> stencil_w;
+  std::vector<std::uint8_t> stencil_off;
   explicit Prepared(std::int64_t n) : store(make_body(n)) {
     const auto keys = sort_by_block<Shape>(store);
     grid.assign(keys);
-    scatter<Shape, true>(p2g_inputs(store, true), grid);
+    stencil_w.resize(store.size() * kernels::Stencil<Shape>::kRow);
+    stencil_off.resize(store.size());
+    const ParticleStore& P = store;
+    const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+    kernels::store_stencils<Shape>(X, P.col(Field::size0).data(), 1.0 / kCell, 0, P.size(),
+                                   stencils(kernels::StencilCache::kStore));
+    auto in = p2g_inputs(store, true);
+    in.stencil = stencils(kernels::StencilCache::kLoad);
+    scatter<Shape, true>(in, grid);
     nodal_velocities(grid);
+  }
+  kernels::StencilCache stencils(kernels::StencilCache::Mode mode) {
+    return {stencil_w.data(), stencil_off.data(), mode};
   }
 };
 

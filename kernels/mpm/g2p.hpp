@@ -5,6 +5,7 @@
 // aside: steps 6-7 still need the shape functions at x^n.
 
 #include <cstdint>
+#include <span>
 
 #include "mpm/stencil.hpp"
 
@@ -25,6 +26,7 @@ struct G2PParticles {
   // Nodal velocity v_f that w interpolates; null: the updated grid velocity v^{n+1} (in p*).
   // XPIC's S (V*_m + a dt) (Hammerquist & Nairn 2017) comes in here.
   const double *fvx, *fvy, *fvz;
+  StencilCache stencil;  // kLoad: the stencils P2G stored this step
 };
 
 // Interpolated nodal velocity at a particle, w_p = sum_I N_I(x_p) v_I: the S operator of
@@ -36,7 +38,7 @@ void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Co
   constexpr int W = Shape::kWidth;
   Stencil<Shape> st;
   const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-  st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
+  st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
   double ux = 0, uy = 0, uz = 0;
   for (int a = 0; a < W; ++a) {
     for (int b = 0; b < W; ++b) {
@@ -55,55 +57,71 @@ void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Co
   wz[p] = uz;
 }
 
-// Grid arrays after the grid update: acceleration in f*, velocity in p*.
-template <class Shape>
-void g2p_particle(const G2PParticles& in, std::size_t p, const SparseGrid::Coord& owner,
-                  const std::uint32_t* neighbours, const SparseGrid::Nodes& nodes) {
+// Node fields a G2P window holds: acceleration f*, velocity p*, and XPIC's filtered velocity.
+using G2PWindow = NodeWindow<9>;
+
+// Grid arrays after the grid update: acceleration in f*, velocity in p*. Particles of one owner
+// block that share one neighbour list (all of them, except where bodies meet); the window is
+// the caller's scratch. after(p, v0) runs once per particle with its velocity before the update.
+template <class Shape, class After>
+void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
+               const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
+               const SparseGrid::Nodes& nodes, G2PWindow& win, After&& after) {
   constexpr int W = Shape::kWidth;
-  Stencil<Shape> st;
-  const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-  st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
   const bool filtered = in.fvx != nullptr;
-  double ax = 0, ay = 0, az = 0, ux = 0, uy = 0, uz = 0, wx = 0, wy = 0, wz = 0;
-  for (int a = 0; a < W; ++a) {
-    for (int b = 0; b < W; ++b) {
-      const double wab = st.w[0][a] * st.w[1][b];
-      for (int c = 0; c < W; ++c) {
-        const std::uint32_t i = st.node(neighbours, a, b, c);
-        const double N = wab * st.w[2][c];
-        ax += N * nodes.fx[i];
-        ay += N * nodes.fy[i];
-        az += N * nodes.fz[i];
-        ux += N * nodes.px[i];
-        uy += N * nodes.py[i];
-        uz += N * nodes.pz[i];
-        if (filtered) {
-          wx += N * in.fvx[i];
-          wy += N * in.fvy[i];
-          wz += N * in.fvz[i];
+  const double* fields[9] = {nodes.fx.data(), nodes.fy.data(), nodes.fz.data(),
+                             nodes.px.data(), nodes.py.data(), nodes.pz.data(),
+                             in.fvx,          in.fvy,          in.fvz};
+  win.load(neighbours, fields, filtered ? 9 : 6);
+  const double(&v)[9][G2PWindow::kSize] = win.v;
+  Stencil<Shape> st;
+  for (const std::uint32_t p : particles) {
+    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+    st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+    double ax = 0, ay = 0, az = 0, ux = 0, uy = 0, uz = 0, wx = 0, wy = 0, wz = 0;
+    for (int a = 0; a < W; ++a) {
+      for (int b = 0; b < W; ++b) {
+        const double wab = st.w[0][a] * st.w[1][b];
+        const int row = G2PWindow::row(st, a, b);
+        for (int c = 0; c < W; ++c) {
+          const int i = row + c;
+          const double N = wab * st.w[2][c];
+          ax += N * v[0][i];
+          ay += N * v[1][i];
+          az += N * v[2][i];
+          ux += N * v[3][i];
+          uy += N * v[4][i];
+          uz += N * v[5][i];
+          if (filtered) {
+            wx += N * v[6][i];
+            wy += N * v[7][i];
+            wz += N * v[8][i];
+          }
         }
       }
     }
+    if (!filtered) wx = ux, wy = uy, wz = uz;
+    const double v0[3] = {in.vx[p], in.vy[p], in.vz[p]};
+    const double f = in.pic_fraction;
+    if (f == 1.0) {
+      in.vx[p] = wx;
+      in.vy[p] = wy;
+      in.vz[p] = wz;
+    } else if (f == 0.0) {
+      in.vx[p] += in.dt_velocity * ax;
+      in.vy[p] += in.dt_velocity * ay;
+      in.vz[p] += in.dt_velocity * az;
+    } else {
+      const double g = 1.0 - f;
+      in.vx[p] = g * (in.vx[p] + in.dt_velocity * ax) + f * wx;
+      in.vy[p] = g * (in.vy[p] + in.dt_velocity * ay) + f * wy;
+      in.vz[p] = g * (in.vz[p] + in.dt_velocity * az) + f * wz;
+    }
+    in.dx[p] = in.dt_position * ux;
+    in.dy[p] = in.dt_position * uy;
+    in.dz[p] = in.dt_position * uz;
+    after(p, v0);
   }
-  if (!filtered) wx = ux, wy = uy, wz = uz;
-  const double f = in.pic_fraction;
-  if (f == 1.0) {
-    in.vx[p] = wx;
-    in.vy[p] = wy;
-    in.vz[p] = wz;
-  } else if (f == 0.0) {
-    in.vx[p] += in.dt_velocity * ax;
-    in.vy[p] += in.dt_velocity * ay;
-    in.vz[p] += in.dt_velocity * az;
-  } else {
-    const double g = 1.0 - f;
-    in.vx[p] = g * (in.vx[p] + in.dt_velocity * ax) + f * wx;
-    in.vy[p] = g * (in.vy[p] + in.dt_velocity * ay) + f * wy;
-    in.vz[p] = g * (in.vz[p] + in.dt_velocity * az) + f * wz;
-  }
-  in.dx[p] = in.dt_position * ux;
-  in.dy[p] = in.dt_position * uy;
-  in.dz[p] = in.dt_position * uz;
 }
 
 }  // namespace shatter::kernels

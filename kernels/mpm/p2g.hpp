@@ -19,6 +19,7 @@ struct P2GParticles {
   // APIC affine velocity C_p, row-major (vgrad_xx .. vgrad_zz); read only by the kAffine scatter
   const double* vgrad[9];
   double inv_h;
+  StencilCache stencil;  // kLoad in the engine (stored by its sort stage)
 };
 
 // Scratch grid: (kBlock + 2)^3 nodes reach every stencil node of the owner block's particles.
@@ -52,7 +53,7 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
   Stencil<Shape> st;
   for (const std::uint32_t p : particles) {
     const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-    st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
+    st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
     const double m = in.mass[p];
     const double mvx = m * in.vx[p], mvy = m * in.vy[p], mvz = m * in.vz[p];
     // m_p C_p, and the node offsets x_I - x_p per axis

@@ -3,12 +3,26 @@
 // stencil inside the particle's owner block (see SparseGrid).
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 
 #include "mpm/shape.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 
 namespace shatter::kernels {
+
+// The stencils of one step, computed once and reused. The particles do not move between the
+// P2G of step 1 and the velocity gradient of step 7 (positions advance only at the end of the
+// step), so the shape functions at x^n that steps 1, 5, 6 and 7 of App. A.2 evaluate are the
+// same four times. store_stencils (below; the engine's sort stage) stores them once and P2G,
+// G2P, the MUSL remap and the velocity gradient read them back (kLoad), bit for bit what they
+// would have computed (kCompute, which the kernels still offer for callers without a cache).
+struct StencilCache {
+  enum Mode : std::uint8_t { kCompute, kStore, kLoad };
+  double* w = nullptr;          // per particle: w[3][W] then dw[3][W] (6 W doubles)
+  std::uint8_t* off = nullptr;  // per particle: off[0] | off[1] << 2 | off[2] << 4
+  Mode mode = kCompute;
+};
 
 template <class Shape>
 struct Stencil {
@@ -36,6 +50,33 @@ struct Stencil {
     }
   }
 
+  static constexpr int kRow = 6 * W;  // doubles per particle in a StencilCache
+
+  // The stencil of particle p: computed, computed and stored, or loaded (StencilCache::Mode).
+  void prepare(const StencilCache& cache, std::size_t p, const double xi[3], double half_size,
+               const SparseGrid::Coord& owner) {
+    if (cache.mode == StencilCache::kLoad) {
+      const double* row = cache.w + p * kRow;
+      std::copy(row, row + 3 * W, &w[0][0]);
+      std::copy(row + 3 * W, row + kRow, &dw[0][0]);
+      const unsigned o = cache.off[p];
+      const int base[3] = {owner.x * SparseGrid::kBlock, owner.y * SparseGrid::kBlock,
+                           owner.z * SparseGrid::kBlock};
+      for (int d = 0; d < 3; ++d) {
+        off[d] = static_cast<int>((o >> (2 * d)) & 3U);
+        first[d] = base[d] + off[d];
+      }
+      return;
+    }
+    compute(xi, half_size, owner);
+    if (cache.mode == StencilCache::kStore) {
+      double* row = cache.w + p * kRow;
+      std::copy(&w[0][0], &w[0][0] + 3 * W, row);
+      std::copy(&dw[0][0], &dw[0][0] + 3 * W, row + 3 * W);
+      cache.off[p] = static_cast<std::uint8_t>(off[0] | (off[1] << 2) | (off[2] << 4));
+    }
+  }
+
   // Node minus particle position along axis d for stencil node a, in metres (APIC's x_i - x_p).
   double offset(int d, int a, double xi_d, double h) const {
     return (static_cast<double>(first[d] + a) - xi_d) * h;
@@ -48,6 +89,67 @@ struct Stencil {
                   ((lz >> SparseGrid::kBlockBits) << 2);
     constexpr int m = SparseGrid::kBlock - 1;
     return neighbours[s] * SparseGrid::kBlockNodes + SparseGrid::local(lx & m, ly & m, lz & m);
+  }
+};
+
+// Stores the stencils of particles [begin, end) in `cache` (StencilCache layout), straight from
+// the positions: the offset of the first node inside its owner block is its global index modulo
+// kBlock, since the owner block is the block of the first node (SparseGrid). One streaming pass
+// over the particles, vectorisable, instead of four evaluations inside the transfer loops.
+template <class Shape>
+void store_stencils(const double* const (&x)[3], const double* size0, double inv_h,
+                    std::size_t begin, std::size_t end, const StencilCache& cache) {
+  constexpr int W = Shape::kWidth;
+  constexpr int mask = SparseGrid::kBlock - 1;
+  for (std::size_t p = begin; p < end; ++p) {
+    const double lp = std::min(0.5 * size0[p] * inv_h, 0.5);
+    double* row = cache.w + p * Stencil<Shape>::kRow;
+    unsigned packed = 0;
+    for (int d = 0; d < 3; ++d) {
+      double w[W], dw[W];
+      const int first = Shape::weights(x[d][p] * inv_h, lp, w, dw);
+      for (int a = 0; a < W; ++a) {
+        row[d * W + a] = w[a];
+        row[(3 + d) * W + a] = dw[a];
+      }
+      packed |= static_cast<unsigned>(first & mask) << (2 * d);
+    }
+    cache.off[p] = static_cast<std::uint8_t>(packed);
+  }
+}
+
+// The nodes of the 2x2x2 blocks that the stencils of one owner block reach, copied into one
+// padded cube of (kBlock + 2)^3 nodes (the reverse of P2GScratch's flush in p2g.hpp). A gather
+// (G2P, velocity gradient) then finds stencil node (a, b, c) at a fixed stride, with no block
+// lookup per node; F fields at most.
+template <int F>
+struct NodeWindow {
+  static constexpr int kEdge = SparseGrid::kBlock + 2;
+  static constexpr int kSize = kEdge * kEdge * kEdge;
+  double v[F][kSize];
+
+  // Copies `count` (<= F) node fields through the owner's neighbour list (8 blocks).
+  void load(const std::uint32_t* neighbours, const double* const* fields, int count) {
+    constexpr int mask = SparseGrid::kBlock - 1;
+    constexpr int bits = SparseGrid::kBlockBits;
+    for (int lx = 0; lx < kEdge; ++lx) {
+      for (int ly = 0; ly < kEdge; ++ly) {
+        const int sel_xy = (lx >> bits) | ((ly >> bits) << 1);
+        for (int lz = 0; lz < kEdge; ++lz) {
+          const int i = (lx * kEdge + ly) * kEdge + lz;
+          const std::size_t g =
+              std::size_t{neighbours[sel_xy | ((lz >> bits) << 2)]} * SparseGrid::kBlockNodes +
+              static_cast<std::size_t>(SparseGrid::local(lx & mask, ly & mask, lz & mask));
+          for (int f = 0; f < count; ++f) v[f][i] = fields[f][g];
+        }
+      }
+    }
+  }
+
+  // Window index of stencil node (a, b, 0); node (a, b, c) is at row(st, a, b) + c.
+  template <class Shape>
+  static int row(const Stencil<Shape>& st, int a, int b) {
+    return ((st.off[0] + a) * kEdge + (st.off[1] + b)) * kEdge + st.off[2];
   }
 };
 

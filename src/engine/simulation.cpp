@@ -1,6 +1,7 @@
 #include "shatter/engine/simulation.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -52,6 +53,30 @@ void vgrad_columns(ParticleStore& P, T* (&out)[9]) {
   for (int k = 0; k < 9; ++k) out[k] = P.col(kOrder[k]).data();
 }
 
+// The particles of every owner block, block by block in parallel, in runs that share one
+// neighbour list (one run per block, except where bodies meet: then one per body): the unit
+// of work of the gathers, which copy the run's nodes into a window first. Each particle's
+// result depends on its own stencil only, so the split does not change any value.
+template <class Scratch, class Body>
+void for_each_run(const SparseGrid& grid, Body&& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.shared_blocks(), 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      Scratch scratch;
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const auto b = static_cast<std::uint32_t>(k);
+                        const auto owned = grid.owned(b);
+                        std::size_t i = 0;
+                        while (i < owned.size()) {
+                          const std::uint32_t list = grid.list_of(owned[i]);
+                          std::size_t j = i + 1;
+                          while (j < owned.size() && grid.list_of(owned[j]) == list) ++j;
+                          body(owned.subspan(i, j - i), grid.coord(b), grid.list(list), scratch);
+                          i = j;
+                        }
+                      }
+                    });
+}
+
 FieldSet all_fields() {
   FieldSet s;
   for (std::size_t i = 0; i < kFieldCount; ++i) s = s.with(static_cast<Field>(i));
@@ -69,6 +94,10 @@ struct Simulation::Impl {
   std::vector<std::uint32_t> order;
   AlignedVector<double> dx, dy, dz, kinetic, potential;
   AlignedVector<double> bx, by, bz;  // body force per unit mass, when the scene has one
+  // Each particle's stencil (weights, gradients, offsets), stored by the sort stage and read by
+  // every transfer of the step (kernels::StencilCache).
+  AlignedVector<double> stencil_w;
+  std::vector<std::uint8_t> stencil_off;
   engine::Boundaries boundaries;
   // Multi-velocity-field contact: set only when the scene asks for it and has two bodies or
   // more; otherwise the step is the single-field step, bitwise.
@@ -96,6 +125,9 @@ struct Simulation::Impl {
         boundaries(s.config_.domain, s.config_.cell_size) {}
 
   double inv_h() const { return 1.0 / sim.config_.cell_size; }
+  kernels::StencilCache stencils(kernels::StencilCache::Mode mode) {
+    return {stencil_w.data(), stencil_off.data(), mode};
+  }
 
   template <class Shape>
   void build_stages();
@@ -419,6 +451,8 @@ void Simulation::Impl::sort() {
   const std::size_t n = P.size();
   owner_keys.resize(n);
   for (auto* v : {&dx, &dy, &dz, &kinetic, &potential}) v->resize(n);
+  stencil_w.resize(n * kernels::Stencil<Shape>::kRow);
+  stencil_off.resize(n);
 
   const double ih = inv_h();
   // First stencil node: floor(xi) for 2-wide stencils, floor(xi - 1/2) for 3-wide ones.
@@ -468,6 +502,15 @@ void Simulation::Impl::sort() {
   } else {
     grid.assign(owner_keys);
   }
+  // Each particle's stencil at x^n, read by every transfer of the step (P2G, G2P, remap,
+  // velocity gradient: kernels::StencilCache).
+  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  const double* size0 = P.col(Field::size0).data();
+  const kernels::StencilCache cache = stencils(kernels::StencilCache::kStore);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
+                    });
 }
 
 // velocity: scatter m_p w_p with these particle velocities instead of v_p (momentum only; XPIC).
@@ -482,6 +525,7 @@ void Simulation::Impl::p2g(bool with_force, double* const* velocity) {
   }
   const bool affine = sim.config_.transfer == TransferKind::apic;
   if (affine) vgrad_columns(P, in.vgrad);
+  in.stencil = stencils(kernels::StencilCache::kLoad);
   if (with_force) {
     if (sim.config_.body_force) {
       for (auto* v : {&bx, &by, &bz}) v->assign(P.size(), 0.0);
@@ -652,6 +696,7 @@ void Simulation::Impl::xpic() {
     }
   });
   kernels::G2PParticles in = engine::g2p_inputs(P, inv_h(), nullptr, nullptr, nullptr);
+  in.stencil = stencils(kernels::StencilCache::kLoad);
   double* w[3] = {xpic_w[0].data(), xpic_w[1].data(), xpic_w[2].data()};
   for (int k = 2; k <= m; ++k) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
@@ -686,6 +731,7 @@ template <class Shape>
 void Simulation::Impl::g2p() {
   ParticleStore& P = sim.particles_;
   kernels::G2PParticles in = engine::g2p_inputs(P, inv_h(), dx.data(), dy.data(), dz.data());
+  in.stencil = stencils(kernels::StencilCache::kLoad);
   in.dt_velocity = 0.5 * (sim.clock_.dt_prev + dt_step);
   in.dt_position = dt_step;
   // The share of the filtered grid velocity in the particle update (TransferKind).
@@ -698,22 +744,19 @@ void Simulation::Impl::g2p() {
   const double* mass = P.col(Field::mass).data();
   const double half_dt_prev = 0.5 * sim.clock_.dt_prev;
   const Vec3 g = sim.config_.gravity;
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t p = r.begin(); p < r.end(); ++p) {
-          const double v0[3] = {in.vx[p], in.vy[p], in.vz[p]};
-          const std::uint32_t b = grid.owner_of(p);
-          kernels::g2p_particle<Shape>(in, p, grid.coord(b), grid.particle_neighbours(p),
-                                       grid.nodes());
-          // Velocity at t^n, v^{n-1/2} + a dt^{n-1/2}/2, makes the kinetic energy
-          // time-centred with the internal energy (second-order energy error).
-          const double w = in.dt_velocity > 0 ? half_dt_prev / in.dt_velocity : 0.0;
-          const double vn[3] = {v0[0] + w * (in.vx[p] - v0[0]), v0[1] + w * (in.vy[p] - v0[1]),
-                                v0[2] + w * (in.vz[p] - v0[2])};
-          kinetic[p] = 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
-          potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
-        }
+  // Velocity at t^n, v^{n-1/2} + a dt^{n-1/2}/2, makes the kinetic energy time-centred with
+  // the internal energy (second-order energy error).
+  const double w = in.dt_velocity > 0 ? half_dt_prev / in.dt_velocity : 0.0;
+  const auto energies = [&](std::size_t p, const double(&v0)[3]) {
+    const double vn[3] = {v0[0] + w * (in.vx[p] - v0[0]), v0[1] + w * (in.vy[p] - v0[1]),
+                          v0[2] + w * (in.vz[p] - v0[2])};
+    kinetic[p] = 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
+    potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
+  };
+  for_each_run<kernels::G2PWindow>(
+      grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
+                const std::uint32_t* nb, kernels::G2PWindow& win) {
+        kernels::g2p_block<Shape>(in, run, owner, nb, grid.nodes(), win, energies);
       });
 }
 
@@ -754,15 +797,13 @@ template <class Shape>
 void Simulation::Impl::velocity_gradient() {
   ParticleStore& P = sim.particles_;
   kernels::GradientParticles in = engine::gradient_inputs(P, inv_h(), dt_step);
+  in.stencil = stencils(kernels::StencilCache::kLoad);
   if (sim.config_.transfer == TransferKind::apic) vgrad_columns(P, in.vgrad);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t p = r.begin(); p < r.end(); ++p) {
-                        const std::uint32_t b = grid.owner_of(p);
-                        kernels::velocity_gradient_particle<Shape>(
-                            in, p, grid.coord(b), grid.particle_neighbours(p), grid.nodes());
-                      }
-                    });
+  for_each_run<kernels::GradientWindow>(
+      grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
+                const std::uint32_t* nb, kernels::GradientWindow& win) {
+        kernels::velocity_gradient_block<Shape>(in, run, owner, nb, grid.nodes(), win);
+      });
 }
 
 void Simulation::Impl::constitutive() {
@@ -849,6 +890,19 @@ void Simulation::Impl::check_finite() const {
   const std::size_t bad = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, n, kParticleGrain), n,
       [&](const tbb::blocked_range<std::size_t>& r, std::size_t found) {
+        // A value is not finite when its exponent bits are all set (IEEE 754). OR-ing that test
+        // over the chunk has no branch per element and vectorises; the search for the first
+        // offender runs only in a chunk that has one (rare: the run is about to stop).
+        constexpr std::uint64_t kExponent = 0x7ff0000000000000ULL;
+        std::uint64_t any = 0;
+        for (const Field f : kChecked) {
+          const double* c = P.col(f).data();
+          for (std::size_t p = r.begin(); p < r.end(); ++p) {
+            any |= static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(c[p]) & kExponent) ==
+                                              kExponent);
+          }
+        }
+        if (any == 0) return found;
         for (const Field f : kChecked) {
           const auto c = P.col(f);
           for (std::size_t p = r.begin(); p < std::min(r.end(), found); ++p) {
