@@ -17,6 +17,7 @@
 #include "strength/hydro.hpp"
 #include "strength/j2_plasticity.hpp"
 #include "strength/modified_lundborg.hpp"
+#include "support/bodies.hpp"
 #include "xsimd/memory/xsimd_aligned_allocator.hpp"
 
 namespace {
@@ -129,7 +130,7 @@ void BM_IdealGas_Hydro(benchmark::State& s) {
 }
 
 void sizes(benchmark::internal::Benchmark* b) {
-  for (int64_t n : {100000, 1000000}) {
+  for (int64_t n : shatter::bench::particle_counts({100000, 1000000})) {
     for (int64_t simd : {0, 1}) b->Args({n, simd});
   }
   b->ArgNames({"n", "simd"})->Unit(benchmark::kMillisecond);

@@ -12,6 +12,7 @@
 #include "shatter/core/particles.hpp"
 #include "shatter/fracture/counter_rng.hpp"
 #include "shatter/fracture/fragments.hpp"
+#include "support/bodies.hpp"
 
 namespace {
 
@@ -79,11 +80,13 @@ void BM_FragmentSearchGridDensity(benchmark::State& state) {
 void BM_FragmentSearchFriendsOfFriends(benchmark::State& state) {
   fragment_search(state, "friends_of_friends");
 }
-BENCHMARK(BM_FragmentSearchGridDensity)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_FragmentSearchFriendsOfFriends)
-    ->Arg(100000)
-    ->Arg(1000000)
-    ->Unit(benchmark::kMillisecond);
+// 1e5 and 1e6 points, or SHATTER_BENCH_PARTICLES (bench::particle_counts).
+void point_counts(benchmark::internal::Benchmark* b) {
+  for (const std::int64_t n : shatter::bench::particle_counts({100000, 1000000})) b->Arg(n);
+  b->Unit(benchmark::kMillisecond);
+}
+BENCHMARK(BM_FragmentSearchGridDensity)->Apply(point_counts);
+BENCHMARK(BM_FragmentSearchFriendsOfFriends)->Apply(point_counts);
 
 // SoA columns of one material group in tension near activation, so that every branch of the
 // policy (inactive, growing, capped) is exercised.

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <initializer_list>
 #include <numeric>
 #include <span>
 #include <string>
@@ -148,15 +150,31 @@ inline void report(benchmark::State& state, const ParticleStore& s, std::size_t 
       column_bytes_per_particle(s) + static_cast<double>(grid_bytes) / static_cast<double>(n);
 }
 
+// Particle counts to run: `sizes`, or, when the environment sets SHATTER_BENCH_PARTICLES (a
+// count, as the CI smoke run does with a tiny one), that count alone.
+inline std::vector<std::int64_t> particle_counts(std::initializer_list<std::int64_t> sizes) {
+  if (const char* e = std::getenv("SHATTER_BENCH_PARTICLES"); e != nullptr && *e != '\0') {
+    const long long n = std::atoll(e);
+    if (n > 0) return {static_cast<std::int64_t>(n)};
+  }
+  return sizes;
+}
+
 // Benchmark argument grid: particles {1e5, 1e6} x threads {1, 2}.
 inline void sizes_and_threads(benchmark::internal::Benchmark* b) {
   b->ArgNames({"particles", "threads"});
-  for (const std::int64_t n : {100'000, 1'000'000}) {
+  for (const std::int64_t n : particle_counts({100'000, 1'000'000})) {
     for (const std::int64_t t : {1, 2}) b->Args({n, t});
   }
   // Wall time drives items/s; CPU time is that of the whole process (all TBB threads), so that
   // items/CPU-second gives the per-core rate on a loaded machine.
   b->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+}
+
+// 1e6 particles (or SHATTER_BENCH_PARTICLES) on 1 thread.
+inline void one_thread(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"particles", "threads"});
+  for (const std::int64_t n : particle_counts({1'000'000})) b->Args({n, 1});
 }
 
 }  // namespace shatter::bench
