@@ -51,7 +51,9 @@ void BM_Step(benchmark::State& state, ShapeKind shape) {
   cfg.cell_size = bench::kCell;
   std::vector<MaterialPtr> materials{
       std::make_shared<LinearElastic>(bench::kRho, bench::kYoung, bench::kPoisson)};
-  const double rss0 = resident_bytes();
+  // Google Benchmark calls this function several times (to pick the iteration count), and
+  // memory freed by one call is reused by the next: measure from before the first call.
+  static const double rss0 = resident_bytes();
   Simulation sim(cfg, bench::make_body(state.range(0), kDrift), std::move(materials), threads);
   sim.step();  // warm-up: first allocation of the grid and the step-0 column re-order
   const std::vector<StageTiming> before = sim.stage_timings();
@@ -61,8 +63,8 @@ void BM_Step(benchmark::State& state, ShapeKind shape) {
   const double n = static_cast<double>(sim.particles().size());
   bench::report(state, sim.particles(), sim.grid_bytes());
   // Everything the simulation holds (columns, grid, the step's scratch: stencils, displacements,
-  // the copy kept for a retake), as the growth of the resident set; approximate where the
-  // allocator keeps freed memory, and meaningful with one benchmark per process.
+  // the copy kept for a retake), as the growth of the resident set since the first call; with
+  // one benchmark per process (tools/plot_step_scaling.py) the peak footprint of the step.
   state.counters["resident_bytes/particle"] = (resident_bytes() - rss0) / n;
   const double steps = static_cast<double>(state.iterations());
   for (std::size_t s = 0; s < after.size(); ++s) {

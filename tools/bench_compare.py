@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Run shatter's benchmark programs and compare every figure with a committed baseline.
 
 Each benchmark program links the same reference kernel (bench/support/reference.cpp, the
