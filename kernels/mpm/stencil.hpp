@@ -15,8 +15,10 @@ namespace shatter::kernels {
 // P2G of step 1 and the velocity gradient of step 7 (positions advance only at the end of the
 // step), so the shape functions at x^n that steps 1, 5, 6 and 7 of App. A.2 evaluate are the
 // same four times. store_stencils (below; the engine's sort stage) stores them once and P2G,
-// G2P, the MUSL remap and the velocity gradient read them back (kLoad), bit for bit what they
-// would have computed (kCompute, which the kernels still offer for callers without a cache).
+// G2P, the MUSL remap and the velocity gradient read them back (kLoad); kCompute remains for
+// callers without a cache. The four passes now use one set of weights per particle; before,
+// each evaluated them in its own inlined code, where the compiler's FMA contraction of
+// x / h - floor could differ in the last bits (docs/performance.md).
 struct StencilCache {
   enum Mode : std::uint8_t { kCompute, kStore, kLoad };
   double* w = nullptr;          // per particle: w[3][W] then dw[3][W] (6 W doubles)
