@@ -19,7 +19,7 @@ psi_rot matches the unrotated run's psi_grid.
 
 Usage:
   crack_orientation.py RUN [RUN ...] [--time 1e-4] [--target target] [--centre 0 0 0]
-        [--radius 0.03] [--rotate-about NX NY NZ --degrees A] [--csv OUT.csv]
+        [--radius 0.03] [--rotate-about NX NY NZ --degrees A] [--render OUT.png]
 A second measure, less sensitive to how a gradient is fitted on a lattice: the correlation of the
 failed indicator (D >= 0.9) between surface points 3-6 spacings apart whose separation lies within
 10 degrees of a projected axis, minus that for separations more than 30 degrees from every axis
@@ -168,6 +168,30 @@ def summary(angles, w):
     return float(ww[a < 7.5].sum() / ww.sum()), float((a * ww).sum() / ww.sum()), hist / ww.sum()
 
 
+def render(run, t, target, centre, radius, out):
+    """The reference-configuration surface points coloured by D, seen along +-x, +-y, +-z."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    *_, surface = crack_directions(run, t, target, centre, radius)
+    x0, _, d, _ = surface
+    fig, axes = plt.subplots(2, 3, figsize=(13, 8.5))
+    views = [(0, 1, 2, 1), (0, 1, 2, -1), (1, 2, 0, 1), (1, 2, 0, -1), (0, 2, 1, 1), (0, 2, 1, -1)]
+    for ax, (i, j, k, sgn) in zip(axes.flat, views):
+        sel = sgn * x0[:, k] > 0
+        sc = ax.scatter(x0[sel, i] * 1e3, x0[sel, j] * 1e3, c=d[sel], s=5, cmap="viridis",
+                        vmin=0, vmax=1)
+        ax.set_aspect("equal")
+        ax.set_title(f"hemisphere {'+' if sgn > 0 else '-'}{'xyz'[k]}")
+        ax.set_xlabel(f"{'xyz'[i]} (mm)")
+        ax.set_ylabel(f"{'xyz'[j]} (mm)")
+    fig.colorbar(sc, ax=axes, shrink=0.6, label="damage D")
+    fig.suptitle(f"{run}: surface damage at t = {t * 1e6:.0f} us on the initial positions")
+    fig.savefig(out, dpi=60)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("runs", nargs="+")
@@ -178,7 +202,11 @@ def main():
     ap.add_argument("--rotate-about", type=float, nargs=3, default=[-np.sqrt(3) / 2, 0.5, 0.0])
     ap.add_argument("--degrees", type=float, default=30.0)
     ap.add_argument("--label", default="")
+    ap.add_argument("--render", help="PNG of the first run's surface damage, six hemispheres")
     args = ap.parse_args()
+    if args.render:
+        render(args.runs[0], args.time, args.target, np.array(args.centre), args.radius,
+               args.render)
     grid = np.eye(3)
     turned = (rotation(args.rotate_about, args.degrees) @ grid.T).T
     pooled = {"grid": ([], []), "rot": ([], [])}
