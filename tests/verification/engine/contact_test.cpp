@@ -265,8 +265,9 @@ TEST(Contact, InvalidSettingsAreRejected) {
 // own: the total energy may only fall (the node pair's inelastic correction), never rise.
 // Bound 1% of the initial energy (the leapfrog energy error of the free cubes is < 1e-3).
 // With the contact correction applied to the remapped velocities as well (Simulation::remap says
-// why it is not) this reached 2.2x (uGIMP, FLIP). Rebound: measured 0.66 (FLIP) and 0.69
-// (APIC) of the approach speed; 0.5 rejects sticking.
+// why it is not) this reached 2.2x (uGIMP, FLIP). Rebound: measured 0.73 (FLIP) and 0.67
+// (APIC) of the approach speed (0.64 and 0.67 with the one-pass correction); 0.5 rejects
+// sticking.
 TEST(Contact, HeadOnCubesReboundWithoutGainingEnergy) {
   for (const TransferKind tr : {TransferKind::flip, TransferKind::apic}) {
     ParticleStore s;
