@@ -5,8 +5,10 @@
 // fields at a node is corrected as in Bardenhagen et al. (2000; 2001): the pair moves together
 // along the contact normal while it approaches and slides with Coulomb friction, and is left
 // alone while it separates (no tension across an interface). Each correction is equal and
-// opposite, so nodal momentum is conserved. (Why not again after the MUSL remap: see
-// Simulation::remap.)
+// opposite, so nodal momentum is conserved. The correction runs twice (Nairn et al. 2020): on
+// the velocities the particles brought to the grid, changing only the nodal velocity, and on the
+// updated velocities, also handed to the particles as an acceleration (Contact::resolve). (Why
+// not again after the MUSL remap: see Simulation::remap.)
 
 #include <cstdint>
 #include <unordered_map>
@@ -30,8 +32,10 @@ class Contact {
   }
 
   // Corrects the body fields at every node where several meet. The grid holds velocities in p*
-  // and, when dt > 0 (after step 4), accelerations in f*, which take the correction / dt so that
-  // the particles feel it (G2P). Constraints of `bc` are imposed again on corrected nodes.
+  // and, when dt > 0 (after step 4), accelerations in f*. With dt > 0 a first pass corrects the
+  // velocities before the update, p* - dt f*, in p* only; the second corrects p* and adds the
+  // correction / dt to f* so that the particles feel it (G2P). Constraints of `bc` are imposed
+  // again on corrected nodes.
   // Returns the nodal kinetic energy the corrections removed (inelastic normal impact of the
   // node pair and friction; >= 0).
   double resolve(SparseGrid& grid, const Boundaries& bc, double dt, double empty_mass) const;
