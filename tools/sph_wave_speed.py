@@ -22,6 +22,8 @@ SPH shock capturing of every SPH run), MPM runs the scene's "no bulk viscosity".
 Usage:
   sph_wave_speed.py --out-dir DIR [--cells 0.02 0.01 0.005] [--methods mpm sph]
                     [--shatter build/release/shatter] [--table-only]
+                    [--set KEY=VALUE ...] [--tag SUFFIX]   (e.g. SPH without viscosity:
+                    --methods sph --set solver.sph.alpha=0 --set solver.sph.beta=0 --tag=-inviscid)
 """
 
 import argparse
@@ -29,13 +31,12 @@ import csv
 import math
 import os
 import subprocess
-import time
 
 CP = math.sqrt(12.0e6 / 1000.0)  # (K + 4G/3)/rho with K = 6.667 MPa, G = 4 MPa
 L = 2.0
 
 
-def run(shatter, method, cell, out):
+def run(shatter, method, cell, out, extra):
     cmd = ["nice", "-n", "5", shatter, "run", "scenes/verification/wave-speed.toml",
            "--threads", "1", "--quiet", "--overwrite", "--out", out,
            "--set", f'solver.method="{method}"',
@@ -45,7 +46,8 @@ def run(shatter, method, cell, out):
            "--set", f"body.bar.hi=[2.0, {cell}, {cell}]",
            "--set", "solver.end_time=0.02",
            "--set", "output.snapshot_every=0.0"]
-    t0 = time.process_time()
+    for e in extra:
+        cmd += ["--set", e]
     r0 = os.times()
     subprocess.run(cmd, check=True)
     r1 = os.times()
@@ -82,14 +84,17 @@ def main():
     ap.add_argument("--methods", nargs="+", default=["mpm", "sph"])
     ap.add_argument("--shatter", default="build/release/shatter")
     ap.add_argument("--table-only", action="store_true")
+    ap.add_argument("--set", dest="extra", action="append", default=[],
+                    help="extra scene override for every run (e.g. solver.sph.alpha=0)")
+    ap.add_argument("--tag", default="", help="suffix of the run directories")
     args = ap.parse_args()
     rows = {}
     for method in args.methods:
         for cell in args.cells:
-            out = os.path.join(args.out_dir, f"{method}-{cell:g}")
+            out = os.path.join(args.out_dir, f"{method}-{cell:g}{args.tag}")
             cpu = float("nan")
             if not args.table_only:
-                cpu = run(args.shatter, method, cell, out)
+                cpu = run(args.shatter, method, cell, out, args.extra)
             m = measure(out)
             m["cpu"] = cpu
             rows[(method, cell)] = m
