@@ -9,7 +9,7 @@ first crack's speed over c_g = 0.4 c_p (c_p = 4616 m/s), mean +- sample std over
 
 Usage:
   sph_tensile_rod.py [--spacing 1.25e-3] [--seeds 3] [--binary build/release/tests/verification_sph]
-                     [--out FILE.md]
+                     [--out FILE.md] [--end-factor 1]
 Run it under nice on a shared machine: one run at 1.25 mm is ~30 s of CPU.
 """
 
@@ -27,8 +27,11 @@ def main():
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--binary", default="build/release/tests/verification_sph")
     ap.add_argument("--out", help="also write the markdown table here")
+    ap.add_argument("--end-factor", type=float, default=1.0,
+                    help="end time in units of the study's 25.8 us (a longer pull)")
     args = ap.parse_args()
-    env = dict(os.environ, SHATTER_ROD_SPACING=str(args.spacing), SHATTER_ROD_SEEDS=str(args.seeds))
+    env = dict(os.environ, SHATTER_ROD_SPACING=str(args.spacing), SHATTER_ROD_SEEDS=str(args.seeds),
+               SHATTER_ROD_END_FACTOR=str(args.end_factor))
     proc = subprocess.run(
         [args.binary, "--gtest_also_run_disabled_tests", "--gtest_filter=SphTensileRod.DISABLED_Study"],
         env=env, capture_output=True, text=True)

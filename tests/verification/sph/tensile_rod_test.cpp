@@ -255,9 +255,12 @@ TEST(SphTensileRod, DISABLED_Study) {
   const double spacing = env != nullptr ? std::atof(env) : 1.25e-3;
   const char* seeds_env = std::getenv("SHATTER_ROD_SEEDS");
   const int seeds = seeds_env != nullptr ? std::atoi(seeds_env) : 3;
+  // SHATTER_ROD_END_FACTOR: end time in units of kEnd (a longer pull, to see the rod break).
+  const char* end_env = std::getenv("SHATTER_ROD_END_FACTOR");
+  const double end = kEnd * (end_env != nullptr ? std::atof(end_env) : 1.0);
   for (int seed = 1; seed <= seeds; ++seed) {
     for (const double rate : {kSlow, kFast}) {
-      const RodResult r = pull(spacing, rate, kEnd, static_cast<std::uint64_t>(seed), 0);
+      const RodResult r = pull(spacing, rate, end, static_cast<std::uint64_t>(seed), 0);
       std::printf(
           "ROD spacing=%g seed=%d rate=%g points=%zu steps=%zu eps_first=%.4g "
           "failed=%.4f fragments=%zu largest=%.4f crack_points=%zu crack_r=%.4g "
