@@ -30,6 +30,11 @@ class NeighbourSearch {
   void build(const double* x, const double* y, const double* z, const double* h, std::size_t n,
              std::size_t n_lists, double skin = 0.0);
 
+  // Only the binning of a build without a skin: cells() and cell_size() as build() would give
+  // them, no lists (lists() = 0). For re-ordering particles by cell without building lists that
+  // the re-order makes stale.
+  void bin(const double* x, const double* y, const double* z, const double* h, std::size_t n);
+
   // Points in the last build, and those with a list.
   std::size_t size() const { return n_; }
   std::size_t lists() const { return lists_; }
@@ -54,6 +59,12 @@ class NeighbourSearch {
   std::size_t bytes() const;
 
  private:
+  // The cells, sorted points and (n_lists + 1) offsets' first entry; false for no points.
+  bool sort_by_cell(const double* x, const double* y, const double* z, const double* h,
+                    std::size_t n, std::size_t n_lists, double skin);
+  void make_lists(const double* x, const double* y, const double* z, const double* h, std::size_t n,
+                  std::size_t n_lists, double skin);
+
   struct KeyIndex {
     std::uint64_t key;
     std::uint32_t index;
@@ -71,7 +82,9 @@ class NeighbourSearch {
   std::vector<std::uint32_t> sorted_;      // point indices sorted by cell, then index
   std::vector<std::size_t> offsets_;       // CSR offsets of the lists (n + 1)
   std::vector<std::uint32_t> list_;        // neighbour indices
+  std::vector<double> xs_, ys_, zs_, hs_;  // positions and h in sorted order
   std::vector<std::vector<std::uint32_t>> chunk_list_;  // per chunk of points, reused
+  std::vector<std::size_t> chunk_used_;                 // entries of each chunk's buffer in use
 };
 
 }  // namespace shatter::sph
