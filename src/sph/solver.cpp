@@ -397,9 +397,9 @@ struct SphSolver::Impl {
       const bool reorder = may_reorder && every > 0 && s.clock_.step % every == 0;
       if (!reorder && lists_valid && xb.size() == P.size()) {
         // Verlet lists: keep the last build's lists while they cover every pair. The passes
-        // skip the skin's entries and the lists are in index order, so the sums are those of
-        // fresh lists, bit for bit (tested), and a resumed run that builds afresh continues
-        // identically.
+        // run over the lists compacted to the pairs within support (the skin's entries
+        // dropped) and the lists are in index order, so the sums are those of fresh lists, bit
+        // for bit (tested), and a resumed run that builds afresh continues identically.
         smoothing_lengths();
         if (lists_still_cover()) {
           if (mirrors) place_ghosts();

@@ -8,11 +8,11 @@
 // a neighbour of i when j != i and |x_i - x_j| < h_i + h_j + skin (2 h_ij is the support of
 // W(r, h_ij); the skin, 0 by default, lets the lists serve several steps, Verlet lists). Each list
 // is in ascending index order: canonical, independent of the cells, the skin and the thread
-// count, so a gather over a list with a skin (whose extra entries the passes skip) sums the same
-// terms in the same order as over a fresh list without one, and the sums have the same bits.
-// Buffers are reused: a build allocates only while a buffer grows past its largest size so far (the
-// lists are gathered in one pass per chunk of points into per-chunk buffers, then copied into
-// place), so a run stops allocating once its neighbour counts stop growing.
+// count, so a gather over a list with a skin (whose extra entries the forces pass compacts away)
+// sums the same terms in the same order as over a fresh list without one, and the sums have the
+// same bits. Buffers are reused: a build allocates only while a buffer grows past its largest size
+// so far (the lists are gathered in one pass per chunk of points into per-chunk buffers, then
+// copied into place), so a run stops allocating once its neighbour counts stop growing.
 
 #include <cstddef>
 #include <cstdint>
