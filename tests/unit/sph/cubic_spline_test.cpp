@@ -118,7 +118,9 @@ TEST(CubicSpline, LanesMatchTheReferenceInEveryLane) {
   // design). Its 1 / h and h / r come from one division, a few roundings more than cubic_f's
   // formula, so q differs by a few ulp, which t = 2 - q magnifies near the edge by q / t: the
   // bound is 1e-14 (~45 eps) of the kernel's scale |F(0)| = 3 / (pi h^5), the size the pair
-  // terms are summed against (measured: below 1e-15 of it); exact 0 outside the support.
+  // terms are summed against (measured: 1.2e-15 of it); exact 0 outside the support. The
+  // scalar instantiation is held to the same bound (not to the SIMD lanes' bits: a compiler may
+  // contract the two into FMAs differently).
   using B = simd::Batch;
   constexpr std::size_t W = simd::kWidth;
   const double h = 0.37;
@@ -136,7 +138,8 @@ TEST(CubicSpline, LanesMatchTheReferenceInEveryLane) {
       const double ref = cubic_f(r[k + l], h);
       EXPECT_NEAR(out[l], ref, 1e-14 * scale) << "r / h = " << r[k + l] / h;
       worst = std::max(worst, std::abs(out[l] - ref) / scale);
-      EXPECT_EQ(out[l], cubic_f_lanes(r[k + l], h)) << "scalar and SIMD lanes, same expression";
+      EXPECT_NEAR(cubic_f_lanes(r[k + l], h), ref, 1e-14 * scale)
+          << "scalar, r / h = " << r[k + l] / h;
       if (r[k + l] >= 2.0 * h) {
         EXPECT_EQ(out[l], 0.0);
       }
