@@ -173,8 +173,8 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
       const T vm[3] = {-dv[0] - half_kick * (axi - L::gather(kick.ax, idx, run)),
                        -dv[1] - half_kick * (ayi - L::gather(kick.ay, idx, run)),
                        -dv[2] - half_kick * (azi - L::gather(kick.az, idx, run))};
-      const T wl = L::load(wk);
-      heat += T(0.5) * wl * (vm[0] * (xi - xj) + vm[1] * (yi - yj) + vm[2] * (zi - zj));
+      const T xij[3] = {xi - xj, yi - yj, zi - zj};
+      viscous_heating_term(heat, L::load(wk), vm, xij);
     }
     // Separation at the midpoint x^{n+1/2} = x^n + v^{n+1/2} dt / 2 of the step the increments
     // cover (midpoint rule: the stress work then matches the leapfrog's kinetic energy change
@@ -184,12 +184,8 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
                      zi - zj - half_dt * dv[2]};
     const T r = simd::vsqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
     const T F = cubic_f_lanes(r, T(0.5) * (hi + L::gather(H, idx, run)));
-    const T mj = L::gather(M, idx, run);
-    // velocity_gradient_term (terms.hpp): rho_i L^{ab} += m_j (v_j^a - v_i^a) dW_ij/dx_i^b.
-    for (int a = 0; a < 3; ++a) {
-      const T mdv = mj * dv[a];
-      for (int b = 0; b < 3; ++b) Ls[a][b] += mdv * (F * dx[b]);
-    }
+    const T grad[3] = {F * dx[0], F * dx[1], F * dx[2]};
+    velocity_gradient_term(Ls, L::gather(M, idx, run), dv, grad);
   }
   double Lsum[3][3];
   for (int a = 0; a < 3; ++a) {
@@ -235,8 +231,7 @@ struct ForceOutputs {
 
 // Pass 2 for particle i over its pairs within support (nb, count; pair_w written from
 // list_offset on, entry for entry): Eq. 17 with the full stress, Monaghan's viscosity and its
-// heating (terms.hpp: stress_force_term, monaghan_viscosity, viscous_term, written out here
-// branch-free for the lanes).
+// heating (terms.hpp: stress_force_term, monaghan_viscosity_lanes, viscous_term).
 template <class T = double>
 inline void forces_particle(const PairInputs& in, const ForceInputs& f, const std::uint32_t* nb,
                             std::size_t count, std::size_t i, const ForceOutputs& out,
@@ -252,7 +247,6 @@ inline void forces_particle(const PairInputs& in, const ForceInputs& f, const st
   const T vi[3] = {T(VX[i]), T(VY[i]), T(VZ[i])};
   T A_i[6];
   for (int c = 0; c < 6; ++c) A_i[c] = T(AS[c][i]);
-  const T alpha(f.viscosity.alpha), beta(f.viscosity.beta), eta2(f.viscosity.eta2);
   T acc[3] = {T(0.0), T(0.0), T(0.0)};
   T heat(0.0), mu_max(0.0);
   alignas(64) std::int64_t idx[W];
@@ -267,31 +261,18 @@ inline void forces_particle(const PairInputs& in, const ForceInputs& f, const st
     const T F = cubic_f_lanes(simd::vsqrt(r2), h_ij);
     const T grad[3] = {F * dx[0], F * dx[1], F * dx[2]};
     const T mj = L::gather(M, idx, run);
-    // stress_force_term, Eq. 17: m_j (A_i + A_j) . grad, A = sigma / rho^2 (Voigt).
-    T s[6];
-    for (int c = 0; c < 6; ++c) s[c] = A_i[c] + L::gather(AS[c], idx, run);
-    acc[0] += mj * (s[0] * grad[0] + s[3] * grad[1] + s[5] * grad[2]);
-    acc[1] += mj * (s[3] * grad[0] + s[1] * grad[1] + s[4] * grad[2]);
-    acc[2] += mj * (s[5] * grad[0] + s[4] * grad[1] + s[2] * grad[2]);
-    // monaghan_viscosity: Pi_ij on approach (v_ij . x_ij < 0) only.
+    T A_j[6];
+    for (int c = 0; c < 6; ++c) A_j[c] = L::gather(AS[c], idx, run);
+    stress_force_term(acc, mj, A_i, A_j, grad);
     const T vij[3] = {vi[0] - L::gather(VX, idx, run), vi[1] - L::gather(VY, idx, run),
                       vi[2] - L::gather(VZ, idx, run)};
     const T vr = vij[0] * dx[0] + vij[1] * dx[1] + vij[2] * dx[2];
-    // One division for both mu_ij and 1 / rho_ij (d1 > 0 by eta^2, rho_ij > 0).
-    const T c_ij = T(0.5) * (ci + L::gather(C, idx, run));
-    const T rho_ij = T(0.5) * (rhoi + L::gather(R, idx, run));
-    const T d1 = r2 + eta2 * h_ij * h_ij;
-    const T inv = T(1.0) / (d1 * rho_ij);
-    const T mu = h_ij * vr * rho_ij * inv;
-    const T pi =
-        simd::vselect(vr < T(0.0), (-alpha * c_ij * mu + beta * mu * mu) * d1 * inv, T(0.0));
-    // viscous_term: the force and its heat; mu enters the time step where Pi acts.
-    const T wv = mj * pi;
-    acc[0] -= wv * grad[0];
-    acc[1] -= wv * grad[1];
-    acc[2] -= wv * grad[2];
-    heat += T(0.5) * wv * (vij[0] * grad[0] + vij[1] * grad[1] + vij[2] * grad[2]);
-    mu_max = simd::vmax(mu_max, simd::vselect(pi != T(0.0), -mu, T(0.0)));
+    const ViscousLanes<T> q =
+        monaghan_viscosity_lanes(f.viscosity, vr, r2, h_ij, T(0.5) * (ci + L::gather(C, idx, run)),
+                                 T(0.5) * (rhoi + L::gather(R, idx, run)));
+    viscous_term(acc, heat, mj, q.pi, vij, grad);
+    mu_max = simd::vmax(mu_max, -q.mu);
+    const T wv = mj * q.pi;
     if (w != nullptr) {
       L::store(wk, wv * F);
       for (std::size_t l = 0; l < rem; ++l) w[k + l] = wk[l];
