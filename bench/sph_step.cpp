@@ -5,11 +5,14 @@
 // (56 neighbours in the bulk). The cube carries a smooth velocity field of ~10 m/s so that every
 // stage has real work (strain, stress, viscosity on compression).
 //
-// Counters: items/s = particle-steps (or particle searches) per second; neighbours = mean list
-// length; bytes/particle = registered particle columns + the solver's own arrays (h, a, heat,
-// neighbour lists and per-pair viscous weights); <stage>_ns = wall time of that stage per
-// particle-step from SphSolver::stage_timings().
+// Counters: items/s = particle-steps (or particle searches) per wall second; items/cpu_s = the
+// same per second of process CPU time (all threads: the comparable figure on a shared machine);
+// neighbours = mean list length (with the Verlet skin's entries); bytes/particle = registered
+// particle columns + the solver's own arrays (h, a, heat, neighbour lists, compacted lists and
+// per-pair viscous weights); <stage>_ns = wall time of that stage per particle-step from
+// SphSolver::stage_timings().
 #include <cmath>
+#include <ctime>
 #include <memory>
 #include <string>
 
@@ -67,11 +70,19 @@ total_flaws = 1.0e9
 }
 
 std::size_t solver_bytes(const sph::SphSolver& sim) {
-  // h, h_mid, a (3), heat, mu, kick heat: 8 doubles per particle; sigma / rho^2: 6; per pair: one
-  // index (4 B) and one viscous weight (8 B).
+  // h, h_mid, a (3), heat, mu, kick heat: 8 doubles per particle; sigma / rho^2: 6; the compacted
+  // list's count (4 B); per list entry: the search's index (in bytes()), the compacted index
+  // (4 B) and one viscous weight (8 B).
   const std::size_t n = sim.particles().size();
-  return n * 14 * sizeof(double) + sim.neighbours().bytes() +
-         sim.neighbours().pairs() * sizeof(double);
+  return n * (14 * sizeof(double) + sizeof(std::uint32_t)) + sim.neighbours().bytes() +
+         sim.neighbours().pairs() * (sizeof(double) + sizeof(std::uint32_t));
+}
+
+// Process CPU time (all threads), seconds.
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 void BM_NeighbourSearch(benchmark::State& state) {
@@ -84,10 +95,13 @@ void BM_NeighbourSearch(benchmark::State& state) {
   arena.execute([&] {
     search.build(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
                  P.size());  // warm-up: first allocation
+    const double c0 = cpu_seconds();
     for (auto _ : state) {
       search.build(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
                    P.size());
     }
+    state.counters["items/cpu_s"] = static_cast<double>(state.iterations()) *
+                                    static_cast<double>(P.size()) / (cpu_seconds() - c0);
   });
   const double n = static_cast<double>(P.size());
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) *
@@ -102,7 +116,9 @@ void BM_SphStep(benchmark::State& state) {
   sim->step();  // warm-up
   const std::vector<StageTiming> before = sim->stage_timings();
   const std::uint64_t builds0 = sim->neighbour_builds();
+  const double c0 = cpu_seconds();
   for (auto _ : state) sim->step();
+  const double cpu = cpu_seconds() - c0;
   const std::vector<StageTiming>& after = sim->stage_timings();
   const double n = static_cast<double>(sim->particles().size());
   bench::report(state, sim->particles(), solver_bytes(*sim));
@@ -111,6 +127,7 @@ void BM_SphStep(benchmark::State& state) {
     state.counters[after[s].name + "_ns"] =
         1e9 * (after[s].seconds - before[s].seconds) / (steps * n);
   }
+  state.counters["items/cpu_s"] = steps * n / cpu;
   state.counters["neighbours"] = static_cast<double>(sim->neighbours().pairs()) / n;
   state.counters["builds/step"] = static_cast<double>(sim->neighbour_builds() - builds0) / steps;
 }

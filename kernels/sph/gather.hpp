@@ -3,15 +3,83 @@
 // particle sums its own neighbours, in the fixed order of its neighbour list, and writes only
 // its own outputs. No scatter, so the result has the same bits on any number of threads.
 // Hot loops only: no I/O, no allocation.
+//
+// Both passes are templates over T: double (the scalar reference, one neighbour at a time) or
+// simd::Batch (W neighbours at a time, one per SIMD lane: W = 8 doubles with AVX-512, 4 with
+// AVX2). The lanes take the list in consecutive groups of W, gather the neighbours' columns, and
+// keep one partial sum per lane, added up at the end; the pair terms are the same expressions
+// but branch-free (cubic_f_lanes, the viscosity selected on approach). So the batch path sums
+// the same terms in another order than the scalar one (round-off, tested against it) and its
+// bits depend on W, but not on the thread count, and not on a Verlet skin: the passes run over
+// the compacted list of pairs within support (compact_within_support), which is the same with
+// and without a skin. The last group is padded with i itself, whose terms are exactly zero
+// (x_ii = 0 and v_ii = 0 make every pair term 0, and the inner kernel branch is finite).
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 
+#include "constitutive/simd.hpp"
 #include "sph/cubic_spline.hpp"
 #include "sph/terms.hpp"
 
 namespace shatter::kernels::sph {
+
+// The lanes of T: its width, gathers of neighbour columns, sums and maxima across lanes.
+template <class T>
+struct Lanes {
+  static constexpr std::size_t width = 1;
+  using Index = std::int64_t;
+  static double gather(const double* col, const Index* idx, bool /*run*/) { return col[idx[0]]; }
+  static double load(const double* p) { return *p; }
+  static void store(double* p, double v) { *p = v; }
+  static double sum(double v) { return v; }
+  static double max(double v) { return v; }
+};
+template <class A>
+struct Lanes<xsimd::batch<double, A>> {
+  using B = xsimd::batch<double, A>;
+  static constexpr std::size_t width = B::size;
+  using Index = std::int64_t;
+  // Element by element into an aligned buffer, then one load. Not the hardware gather: on the
+  // development machine (AMD EPYC, AVX-512) vgatherqpd made the whole step 1.3x slower
+  // (docs/performance.md, SPH section), and xsimd 8.1's batch::gather does not even reach it
+  // for doubles (it calls an out-of-line generic gather, a quarter of the step under perf).
+  static B gather(const double* col, const Index* idx, bool run) {
+    if (run) return B::load_unaligned(col + idx[0]);
+    alignas(64) double v[width];
+    for (std::size_t l = 0; l < width; ++l) v[l] = col[idx[l]];
+    return B::load_aligned(v);
+  }
+  static B load(const double* p) { return B::load_aligned(p); }
+  static void store(double* p, const B& v) { v.store_aligned(p); }
+  static double sum(const B& v) { return xsimd::hadd(v); }
+  static double max(const B& v) {
+    alignas(64) double a[width];
+    v.store_aligned(a);
+    double m = a[0];
+    for (std::size_t l = 1; l < width; ++l) m = std::max(m, a[l]);
+    return m;
+  }
+};
+
+// Indices of the next group of at most W list entries, padded with i; `run` tells whether they
+// are W consecutive indices, which the gathers then read as one load per column. (Particles
+// re-ordered by cell make such runs common: in the benchmark cube they made the step 1.2x
+// faster. The values are the same either way, so are the bits.)
+template <std::size_t W>
+inline std::size_t group_indices(const std::uint32_t* nb, std::size_t count, std::size_t k,
+                                 std::size_t i, std::int64_t (&idx)[W], bool& run) {
+  const std::size_t rem = std::min(W, count - k);
+  bool consecutive = rem == W;
+  for (std::size_t l = 0; l < W; ++l) {
+    idx[l] = static_cast<std::int64_t>(l < rem ? nb[k + l] : i);
+    consecutive &= idx[l] == idx[0] + static_cast<std::int64_t>(l);
+  }
+  run = consecutive;
+  return rem;
+}
 
 // What both passes read, as column pointers.
 struct PairInputs {
@@ -24,19 +92,24 @@ struct PairInputs {
   const double* mass = nullptr;
   const double* rho = nullptr;
   const double* h = nullptr;  // smoothing length
-  // The smoothing lengths of the lists' criterion |x_i - x_j| < h_i + h_j at these positions,
-  // when the lists carry a skin (Verlet lists): entries beyond it are skipped, so the sums are
-  // those of a list without the skin. nullptr: every entry counts (the forces pass uses h).
-  const double* h_support = nullptr;
 };
 
-// True when j is within i's support at the current positions, by the neighbour search's own
-// expression (src/sph/neighbours.cpp), so a list with a skin counts exactly the entries a list
-// without one holds.
-inline bool within_support(const PairInputs& in, const double* h, std::size_t i, std::uint32_t j) {
-  const double dx = in.x[i] - in.x[j], dy = in.y[i] - in.y[j], dz = in.z[i] - in.z[j];
-  const double reach = h[i] + h[j];
-  return dx * dx + dy * dy + dz * dz < reach * reach;
+// The entries of i's list (nb, count) within support at the current positions,
+// |x_i - x_j| < h_i + h_j by the neighbour search's own expression (src/sph/neighbours.cpp),
+// written in list order to `active` (room for count entries); returns how many. A list with a
+// Verlet skin compacts to exactly the list a search without the skin makes. Branch-free.
+inline std::size_t compact_within_support(const PairInputs& in, const std::uint32_t* nb,
+                                          std::size_t count, std::size_t i, std::uint32_t* active) {
+  const double xi = in.x[i], yi = in.y[i], zi = in.z[i], hi = in.h[i];
+  std::size_t m = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint32_t j = nb[k];
+    const double dx = xi - in.x[j], dy = yi - in.y[j], dz = zi - in.z[j];
+    const double reach = hi + in.h[j];
+    active[m] = j;
+    m += dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0;
+  }
+  return m;
 }
 
 // Pass 1 outputs: the increments MaterialModel::update expects (App. A.2 step 7 of the MPM
@@ -59,62 +132,84 @@ struct KickHeating {
   double* heat = nullptr;  // out: specific heat added over the kick (J/kg)
 };
 
-// Pass 1 for particle i (positions x^n, velocities v^{n+1/2}): velocity gradient from Eq. 18
-// (its trace is Eq. 16) at the step's midpoint configuration, turned into the strain and spin
+// Pass 1 for particle i (positions x^n, velocities v^{n+1/2}) over its pairs within support
+// (nb, count; pair_w from list_offset on, entry for entry): velocity gradient from Eq. 18 (its
+// trace is Eq. 16) at the step's midpoint configuration, turned into the strain and spin
 // increments over dt and the density rho^{n+1}.
+template <class T = double>
 inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::size_t count,
                            std::size_t i, double dt, const RateOutputs& out,
                            const KickHeating& kick = {}, std::size_t list_offset = 0) {
-  const double xi = in.x[i], yi = in.y[i], zi = in.z[i];
-  const double hi = in.h[i];
-  const double vi[3] = {in.vx[i], in.vy[i], in.vz[i]};
-  const double half_dt = 0.5 * dt;
-  double L[3][3] = {};
-  double heat = 0.0;
+  using L = Lanes<T>;
+  constexpr std::size_t W = L::width;
+  // Local copies of the column pointers: the stores below cannot alias them in the compiler's
+  // eyes, so they stay in registers.
+  const double *X = in.x, *Y = in.y, *Z = in.z, *VX = in.vx, *VY = in.vy, *VZ = in.vz;
+  const double *M = in.mass, *H = in.h;
+  const T xi(X[i]), yi(Y[i]), zi(Z[i]), hi(H[i]);
+  const T vi[3] = {T(VX[i]), T(VY[i]), T(VZ[i])};
+  const T half_dt(0.5 * dt);
+  T Ls[3][3];
+  for (auto& row : Ls) {
+    for (T& v : row) v = T(0.0);
+  }
+  T heat(0.0);
   const double* w = kick.pair_w != nullptr ? kick.pair_w + list_offset : nullptr;
-  const double half_kick = 0.5 * kick.dt_kick;
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::uint32_t j = nb[k];
-    if (in.h_support != nullptr && !within_support(in, in.h_support, i, j)) continue;
-    const double dv[3] = {in.vx[j] - vi[0], in.vy[j] - vi[1], in.vz[j] - vi[2]};
-    if (w != nullptr && w[k] != 0.0) {
-      // v_ij at the middle of the kick: v^{n+1/2} - (a_i - a_j) dt_kick / 2.
-      const double vm[3] = {-dv[0] - half_kick * (kick.ax[i] - kick.ax[j]),
-                            -dv[1] - half_kick * (kick.ay[i] - kick.ay[j]),
-                            -dv[2] - half_kick * (kick.az[i] - kick.az[j])};
-      const double xij[3] = {xi - in.x[j], yi - in.y[j], zi - in.z[j]};
-      viscous_heating_term(heat, w[k], vm, xij);
+  const T half_kick(0.5 * kick.dt_kick);
+  const T axi(w != nullptr ? kick.ax[i] : 0.0), ayi(w != nullptr ? kick.ay[i] : 0.0),
+      azi(w != nullptr ? kick.az[i] : 0.0);
+  alignas(64) std::int64_t idx[W];
+  alignas(64) double wk[W];
+  for (std::size_t k = 0; k < count; k += W) {
+    bool run = false;
+    const std::size_t rem = group_indices<W>(nb, count, k, i, idx, run);
+    const T xj = L::gather(X, idx, run), yj = L::gather(Y, idx, run), zj = L::gather(Z, idx, run);
+    const T dv[3] = {L::gather(VX, idx, run) - vi[0], L::gather(VY, idx, run) - vi[1],
+                     L::gather(VZ, idx, run) - vi[2]};
+    if (w != nullptr) {
+      for (std::size_t l = 0; l < W; ++l) wk[l] = l < rem ? w[k + l] : 0.0;
+      // v_ij at the middle of the kick: v^{n+1/2} - (a_i - a_j) dt_kick / 2 (terms.hpp,
+      // viscous_heating_term). Pairs without viscosity have w = 0 and add exactly 0.
+      const T vm[3] = {-dv[0] - half_kick * (axi - L::gather(kick.ax, idx, run)),
+                       -dv[1] - half_kick * (ayi - L::gather(kick.ay, idx, run)),
+                       -dv[2] - half_kick * (azi - L::gather(kick.az, idx, run))};
+      const T xij[3] = {xi - xj, yi - yj, zi - zj};
+      viscous_heating_term(heat, L::load(wk), vm, xij);
     }
     // Separation at the midpoint x^{n+1/2} = x^n + v^{n+1/2} dt / 2 of the step the increments
     // cover (midpoint rule: the stress work then matches the leapfrog's kinetic energy change
     // to second order in dt; at x^n it was first order, measured). Pairs that come within
     // reach during the half step are missed, at the kernel's edge where W and dW/dr vanish.
-    const double dx[3] = {xi - in.x[j] - half_dt * dv[0], yi - in.y[j] - half_dt * dv[1],
-                          zi - in.z[j] - half_dt * dv[2]};
-    const double r = std::sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
-    const double F = cubic_f(r, 0.5 * (hi + in.h[j]));
-    const double grad[3] = {F * dx[0], F * dx[1], F * dx[2]};
-    velocity_gradient_term(L, in.mass[j], dv, grad);
+    const T dx[3] = {xi - xj - half_dt * dv[0], yi - yj - half_dt * dv[1],
+                     zi - zj - half_dt * dv[2]};
+    const T r = simd::vsqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
+    const T F = cubic_f_lanes(r, T(0.5) * (hi + L::gather(H, idx, run)));
+    const T grad[3] = {F * dx[0], F * dx[1], F * dx[2]};
+    velocity_gradient_term(Ls, L::gather(M, idx, run), dv, grad);
+  }
+  double Lsum[3][3];
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) Lsum[a][b] = L::sum(Ls[a][b]);
   }
   // Eq. 16, forward in time: rho^{n+1} = rho^n - dt sum_j m_j (v_j - v_i) . grad_i W_ij.
-  const double rho_new = in.rho[i] - dt * (L[0][0] + L[1][1] + L[2][2]);
+  const double rho_new = in.rho[i] - dt * (Lsum[0][0] + Lsum[1][1] + Lsum[2][2]);
   // Eq. 18 divides the sum by rho_i; with rho^{n+1} here, 1 + tr deps = rho^n / rho^{n+1}
   // exactly, which is the density relation MaterialModel::update assumes (it recovers rho^n as
   // rho (1 + tr deps) for its energy update dE = deps : sigma / rho^n). The pair then matches
   // the momentum equation's sigma / rho^2 at both ends of the step, which makes the total energy
   // error second order in dt (with rho^n here it was first order, measured).
-  const double k = dt / rho_new;
-  out.deps[0][i] = k * L[0][0];
-  out.deps[1][i] = k * L[1][1];
-  out.deps[2][i] = k * L[2][2];
-  out.deps[3][i] = 0.5 * k * (L[0][1] + L[1][0]);
-  out.deps[4][i] = 0.5 * k * (L[1][2] + L[2][1]);
-  out.deps[5][i] = 0.5 * k * (L[0][2] + L[2][0]);
-  out.dspin[0][i] = 0.5 * k * (L[0][1] - L[1][0]);
-  out.dspin[1][i] = 0.5 * k * (L[1][2] - L[2][1]);
-  out.dspin[2][i] = 0.5 * k * (L[0][2] - L[2][0]);
+  const double kf = dt / rho_new;
+  out.deps[0][i] = kf * Lsum[0][0];
+  out.deps[1][i] = kf * Lsum[1][1];
+  out.deps[2][i] = kf * Lsum[2][2];
+  out.deps[3][i] = 0.5 * kf * (Lsum[0][1] + Lsum[1][0]);
+  out.deps[4][i] = 0.5 * kf * (Lsum[1][2] + Lsum[2][1]);
+  out.deps[5][i] = 0.5 * kf * (Lsum[0][2] + Lsum[2][0]);
+  out.dspin[0][i] = 0.5 * kf * (Lsum[0][1] - Lsum[1][0]);
+  out.dspin[1][i] = 0.5 * kf * (Lsum[1][2] - Lsum[2][1]);
+  out.dspin[2][i] = 0.5 * kf * (Lsum[0][2] - Lsum[2][0]);
   out.rho[i] = rho_new;
-  if (kick.heat != nullptr) kick.heat[i] = heat * kick.dt_kick;
+  if (kick.heat != nullptr) kick.heat[i] = L::sum(heat) * kick.dt_kick;
 }
 
 // Pass 2 inputs besides PairInputs.
@@ -134,48 +229,60 @@ struct ForceOutputs {
   double* pair_w = nullptr;  // per list entry: m_j Pi_ij F_ij, for viscous_heating_term
 };
 
-// Pass 2 for particle i: Eq. 17 with the full stress, Monaghan's viscosity and its heating.
+// Pass 2 for particle i over its pairs within support (nb, count; pair_w written from
+// list_offset on, entry for entry): Eq. 17 with the full stress, Monaghan's viscosity and its
+// heating (terms.hpp: stress_force_term, monaghan_viscosity_lanes, viscous_term).
+template <class T = double>
 inline void forces_particle(const PairInputs& in, const ForceInputs& f, const std::uint32_t* nb,
                             std::size_t count, std::size_t i, const ForceOutputs& out,
                             std::size_t list_offset = 0) {
+  using L = Lanes<T>;
+  constexpr std::size_t W = L::width;
   double* w = out.pair_w != nullptr ? out.pair_w + list_offset : nullptr;
-  const double xi = in.x[i], yi = in.y[i], zi = in.z[i];
-  const double hi = in.h[i], rhoi = in.rho[i], ci = f.soundspeed[i];
-  const double vi[3] = {in.vx[i], in.vy[i], in.vz[i]};
-  double A_i[6];
-  for (int c = 0; c < 6; ++c) A_i[c] = f.a_stress[c][i];
-  double acc[3] = {0.0, 0.0, 0.0};
-  double heat = 0.0, mu_max = 0.0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::uint32_t j = nb[k];
-    const double dx[3] = {xi - in.x[j], yi - in.y[j], zi - in.z[j]};
-    const double r2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
-    const double reach = hi + in.h[j];
-    if (!(r2 < reach * reach)) {  // a skin entry (the search's criterion, same expression)
-      if (w != nullptr) w[k] = 0.0;
-      continue;
+  const double *X = in.x, *Y = in.y, *Z = in.z, *VX = in.vx, *VY = in.vy, *VZ = in.vz;
+  const double *M = in.mass, *H = in.h, *R = in.rho, *C = f.soundspeed;
+  const double* AS[6] = {f.a_stress[0], f.a_stress[1], f.a_stress[2],
+                         f.a_stress[3], f.a_stress[4], f.a_stress[5]};
+  const T xi(X[i]), yi(Y[i]), zi(Z[i]), hi(H[i]), rhoi(R[i]), ci(C[i]);
+  const T vi[3] = {T(VX[i]), T(VY[i]), T(VZ[i])};
+  T A_i[6];
+  for (int c = 0; c < 6; ++c) A_i[c] = T(AS[c][i]);
+  T acc[3] = {T(0.0), T(0.0), T(0.0)};
+  T heat(0.0), mu_max(0.0);
+  alignas(64) std::int64_t idx[W];
+  alignas(64) double wk[W];
+  for (std::size_t k = 0; k < count; k += W) {
+    bool run = false;
+    const std::size_t rem = group_indices<W>(nb, count, k, i, idx, run);
+    const T dx[3] = {xi - L::gather(X, idx, run), yi - L::gather(Y, idx, run),
+                     zi - L::gather(Z, idx, run)};
+    const T r2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+    const T h_ij = T(0.5) * (hi + L::gather(H, idx, run));
+    const T F = cubic_f_lanes(simd::vsqrt(r2), h_ij);
+    const T grad[3] = {F * dx[0], F * dx[1], F * dx[2]};
+    const T mj = L::gather(M, idx, run);
+    T A_j[6];
+    for (int c = 0; c < 6; ++c) A_j[c] = L::gather(AS[c], idx, run);
+    stress_force_term(acc, mj, A_i, A_j, grad);
+    const T vij[3] = {vi[0] - L::gather(VX, idx, run), vi[1] - L::gather(VY, idx, run),
+                      vi[2] - L::gather(VZ, idx, run)};
+    const T vr = vij[0] * dx[0] + vij[1] * dx[1] + vij[2] * dx[2];
+    const ViscousLanes<T> q =
+        monaghan_viscosity_lanes(f.viscosity, vr, r2, h_ij, T(0.5) * (ci + L::gather(C, idx, run)),
+                                 T(0.5) * (rhoi + L::gather(R, idx, run)));
+    viscous_term(acc, heat, mj, q.pi, vij, grad);
+    mu_max = simd::vmax(mu_max, -q.mu);
+    const T wv = mj * q.pi;
+    if (w != nullptr) {
+      L::store(wk, wv * F);
+      for (std::size_t l = 0; l < rem; ++l) w[k + l] = wk[l];
     }
-    const double h_ij = 0.5 * (hi + in.h[j]);
-    const double F = cubic_f(std::sqrt(r2), h_ij);
-    const double grad[3] = {F * dx[0], F * dx[1], F * dx[2]};
-    const double A_j[6] = {f.a_stress[0][j], f.a_stress[1][j], f.a_stress[2][j],
-                           f.a_stress[3][j], f.a_stress[4][j], f.a_stress[5][j]};
-    stress_force_term(acc, in.mass[j], A_i, A_j, grad);
-    const double vij[3] = {vi[0] - in.vx[j], vi[1] - in.vy[j], vi[2] - in.vz[j]};
-    const double vr = vij[0] * dx[0] + vij[1] * dx[1] + vij[2] * dx[2];
-    const ViscousPair q = monaghan_viscosity(
-        f.viscosity, vr, r2, h_ij, 0.5 * (ci + f.soundspeed[j]), 0.5 * (rhoi + in.rho[j]));
-    if (q.pi != 0.0) {
-      viscous_term(acc, heat, in.mass[j], q.pi, vij, grad);
-      mu_max = std::fmax(mu_max, -q.mu);
-    }
-    if (w != nullptr) w[k] = in.mass[j] * q.pi * F;
   }
-  out.ax[i] = acc[0] + f.gravity[0];
-  out.ay[i] = acc[1] + f.gravity[1];
-  out.az[i] = acc[2] + f.gravity[2];
-  out.heat[i] = heat;
-  out.mu[i] = mu_max;
+  out.ax[i] = L::sum(acc[0]) + f.gravity[0];
+  out.ay[i] = L::sum(acc[1]) + f.gravity[1];
+  out.az[i] = L::sum(acc[2]) + f.gravity[2];
+  out.heat[i] = L::sum(heat);
+  out.mu[i] = L::max(mu_max);
 }
 
 }  // namespace shatter::kernels::sph

@@ -4,7 +4,10 @@
 // sum; the gather passes (kernels/sph/gather.hpp) call them in a fixed order, with no virtual
 // call per pair. grad is grad_i W_ij = F(r_ij, h_ij) (x_i - x_j), h_ij = (h_i + h_j) / 2
 // (BA95 after Eq. 16), so grad_j W_ji = -grad_i W_ij bitwise and the pair forces are equal and
-// opposite.
+// opposite. The terms are templates over T, double or a SIMD batch (the passes' lanes, one pair
+// per lane): the same expressions either way.
+
+#include "constitutive/simd.hpp"
 
 namespace shatter::kernels::sph {
 
@@ -13,10 +16,11 @@ namespace shatter::kernels::sph {
 // Eq. 18 is its symmetric part (strain rate), the rotation rate (Eq. 7) its skew part, and
 // Eq. 16 is its trace: drho_i/dt = -sum_j m_j (v_j - v_i) . grad_i W_ij = -rho_i tr L_i.
 // dv = v_j - v_i.
-inline void velocity_gradient_term(double (&L)[3][3], double m_j, const double (&dv)[3],
-                                   const double (&grad)[3]) {
+template <class T>
+inline void velocity_gradient_term(T (&L)[3][3], const T& m_j, const T (&dv)[3],
+                                   const T (&grad)[3]) {
   for (int a = 0; a < 3; ++a) {
-    const double w = m_j * dv[a];
+    const T w = m_j * dv[a];
     for (int b = 0; b < 3; ++b) L[a][b] += w * grad[b];
   }
 }
@@ -24,10 +28,11 @@ inline void velocity_gradient_term(double (&L)[3][3], double m_j, const double (
 // Pressure and stress force, Eq. 17 (the symmetric form, full Cauchy stress sigma = -p I + S,
 // damage included): dv_i^a/dt += m_j (sigma_i^{ab} / rho_i^2 + sigma_j^{ab} / rho_j^2) dW/dx_i^b.
 // A = sigma / rho^2 in Voigt order xx, yy, zz, xy, yz, xz.
-inline void stress_force_term(double (&acc)[3], double m_j, const double (&A_i)[6],
-                              const double* A_j, const double (&grad)[3]) {
-  const double s[6] = {A_i[0] + A_j[0], A_i[1] + A_j[1], A_i[2] + A_j[2],
-                       A_i[3] + A_j[3], A_i[4] + A_j[4], A_i[5] + A_j[5]};
+template <class T>
+inline void stress_force_term(T (&acc)[3], const T& m_j, const T (&A_i)[6], const T (&A_j)[6],
+                              const T (&grad)[3]) {
+  const T s[6] = {A_i[0] + A_j[0], A_i[1] + A_j[1], A_i[2] + A_j[2],
+                  A_i[3] + A_j[3], A_i[4] + A_j[4], A_i[5] + A_j[5]};
   acc[0] += m_j * (s[0] * grad[0] + s[3] * grad[1] + s[5] * grad[2]);
   acc[1] += m_j * (s[3] * grad[0] + s[1] * grad[1] + s[4] * grad[2]);
   acc[2] += m_j * (s[5] * grad[0] + s[4] * grad[1] + s[2] * grad[2]);
@@ -56,18 +61,40 @@ inline ViscousPair monaghan_viscosity(const ViscosityCoefficients& k, double vr,
   return {(-k.alpha * c_ij * mu + k.beta * mu * mu) / rho_ij, mu};
 }
 
+// monaghan_viscosity without a branch, for the passes' lanes: Pi_ij selected on approach (0
+// elsewhere), and mu_ij where Pi_ij acts (0 elsewhere). One division serves both mu_ij and
+// 1 / rho_ij (r^2 + eta^2 h_ij^2 > 0 and rho_ij > 0), so Pi_ij differs from
+// monaghan_viscosity's by a few ulp.
+template <class T>
+struct ViscousLanes {
+  T pi;
+  T mu;
+};
+template <class T>
+inline ViscousLanes<T> monaghan_viscosity_lanes(const ViscosityCoefficients& k, const T& vr,
+                                                const T& r2, const T& h_ij, const T& c_ij,
+                                                const T& rho_ij) {
+  const T d1 = r2 + T(k.eta2) * h_ij * h_ij;
+  const T inv = T(1.0) / (d1 * rho_ij);
+  const T mu = h_ij * vr * rho_ij * inv;
+  const T pi = simd::vselect(vr < T(0.0),
+                             (-T(k.alpha) * c_ij * mu + T(k.beta) * mu * mu) * d1 * inv, T(0.0));
+  return {pi, simd::vselect(pi != T(0.0), mu, T(0.0))};
+}
+
 // The viscous force and its heating (Monaghan 1992, Eqs. 4.1 and 4.4):
 //   dv_i/dt += -m_j Pi_ij grad_i W_ij,   du_i/dt += 1/2 m_j Pi_ij v_ij . grad_i W_ij.
 // Summed over i with m_i, the heating is exactly the kinetic energy the force removes, so the
 // viscosity conserves total energy (it is not in the material model's deps : sigma work: the
 // constitutive call gets zero viscosity coefficients).
-inline void viscous_term(double (&acc)[3], double& heat, double m_j, double pi,
-                         const double (&vij)[3], const double (&grad)[3]) {
-  const double w = m_j * pi;
+template <class T>
+inline void viscous_term(T (&acc)[3], T& heat, const T& m_j, const T& pi, const T (&vij)[3],
+                         const T (&grad)[3]) {
+  const T w = m_j * pi;
   acc[0] -= w * grad[0];
   acc[1] -= w * grad[1];
   acc[2] -= w * grad[2];
-  heat += 0.5 * w * (vij[0] * grad[0] + vij[1] * grad[1] + vij[2] * grad[2]);
+  heat += T(0.5) * w * (vij[0] * grad[0] + vij[1] * grad[1] + vij[2] * grad[2]);
 }
 
 // Time-centred viscous heating, the energy side of viscous_term over one kick. The force of the
@@ -77,9 +104,9 @@ inline void viscous_term(double (&acc)[3], double& heat, double m_j, double pi,
 // first order: 1.6e-3 and 7.9e-4 at CFL 0.3 and 0.15 in the colliding spheres). w is the pair
 // weight the force pass stored, m_j Pi_ij F_ij (grad_i W_ij = F_ij x_ij at x^n), so that
 //   du_i += 1/2 w (v_ij^{mean} . x_ij^n) dt_kick.
-inline void viscous_heating_term(double& heat, double w, const double (&vij_mean)[3],
-                                 const double (&xij)[3]) {
-  heat += 0.5 * w * (vij_mean[0] * xij[0] + vij_mean[1] * xij[1] + vij_mean[2] * xij[2]);
+template <class T>
+inline void viscous_heating_term(T& heat, const T& w, const T (&vij_mean)[3], const T (&xij)[3]) {
+  heat += T(0.5) * w * (vij_mean[0] * xij[0] + vij_mean[1] * xij[1] + vij_mean[2] * xij[2]);
 }
 
 }  // namespace shatter::kernels::sph

@@ -32,6 +32,8 @@ std::size_t NeighbourSearch::bytes() const {
              (cell_.capacity() + cell_start_.capacity() + sorted_.capacity() + list_.capacity()) +
          sizeof(std::size_t) * offsets_.capacity() + sizeof(std::uint64_t) * cell_key_.capacity() +
          sizeof(KeyIndex) * keyed_.capacity() +
+         sizeof(double) * (xs_.capacity() + ys_.capacity() + zs_.capacity() + hs_.capacity()) +
+         sizeof(std::size_t) * chunk_used_.capacity() +
          std::accumulate(chunk_list_.begin(), chunk_list_.end(), std::size_t{0},
                          [](std::size_t a, const std::vector<std::uint32_t>& v) {
                            return a + sizeof(std::uint32_t) * v.capacity();
@@ -43,8 +45,20 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
   build(x, y, z, h, n, n, 0.0);
 }
 
+void NeighbourSearch::bin(const double* x, const double* y, const double* z, const double* h,
+                          std::size_t n) {
+  sort_by_cell(x, y, z, h, n, 0, 0.0);
+}
+
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
                             std::size_t n, std::size_t n_lists, double skin) {
+  if (!sort_by_cell(x, y, z, h, n, n_lists, skin)) return;
+  make_lists(x, y, z, h, n, n_lists, skin);
+}
+
+bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const double* z,
+                                   const double* h, std::size_t n, std::size_t n_lists,
+                                   double skin) {
   if (!(skin >= 0.0) || !std::isfinite(skin)) {
     throw std::invalid_argument(fmt::format("neighbour search: skin must be >= 0, got {}", skin));
   }
@@ -66,7 +80,7 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
   cell_start_.clear();
   if (n == 0) {
     cell_start_.push_back(0);
-    return;
+    return false;
   }
 
   // Bounding box and largest h (min/max are exact: any order gives the same result).
@@ -118,13 +132,36 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
     cell_[keyed_[s].index] = static_cast<std::uint32_t>(cell_key_.size() - 1);
   }
   cell_start_.push_back(static_cast<std::uint32_t>(n));
+  return true;
+}
 
-  // Visits the candidates of point i in the fixed order; calls f(j) for each neighbour.
-  auto visit = [&](std::size_t i, auto&& f) {
-    const std::uint64_t key = cell_key_[cell_[i]];
+void NeighbourSearch::make_lists(const double* x, const double* y, const double* z, const double* h,
+                                 std::size_t n, std::size_t n_lists, double skin) {
+  // The positions and h in sorted order: the candidates of a row of cells are then one
+  // contiguous run of each column (no indirection per candidate).
+  for (auto* v : {&xs_, &ys_, &zs_, &hs_}) v->resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t s = r.begin(); s < r.end(); ++s) {
+                        const std::uint32_t p = sorted_[s];
+                        xs_[s] = x[p];
+                        ys_[s] = y[p];
+                        zs_[s] = z[p];
+                        hs_[s] = h[p];
+                      }
+                    });
+
+  // The sorted slots [s0, s1) of the (up to) nine rows of three cells around cell `key`.
+  struct Rows {
+    std::uint32_t count = 0;
+    std::uint32_t s0[9], s1[9];
+    std::size_t candidates = 0;
+  };
+  auto rows_around = [&](std::uint64_t key, Rows& rows) {
     const std::uint64_t mask = kAxisCells - 1;
     const std::uint64_t k0 = key & mask, k1 = (key >> kBits) & mask, k2 = key >> (2 * kBits);
-    const double xi = x[i], yi = y[i], zi = z[i], hi_ = h[i];
+    rows.count = 0;
+    rows.candidates = 0;
     for (std::uint64_t c2 = k2 > 0 ? k2 - 1 : 0; c2 <= std::min(k2 + 1, mask); ++c2) {
       for (std::uint64_t c1 = k1 > 0 ? k1 - 1 : 0; c1 <= std::min(k1 + 1, mask); ++c1) {
         // The row's cells x - 1 .. x + 1 are one key interval, one run of sorted points.
@@ -134,40 +171,60 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
         auto b = a;
         while (b != cell_key_.end() && *b <= last) ++b;
         if (a == b) continue;
-        const std::uint32_t s0 = cell_start_[static_cast<std::size_t>(a - cell_key_.begin())];
-        const std::uint32_t s1 = cell_start_[static_cast<std::size_t>(b - cell_key_.begin())];
-        for (std::uint32_t s = s0; s < s1; ++s) {
-          const std::uint32_t j = sorted_[s];
-          if (j == i) continue;
-          const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
-          const double reach = hi_ + h[j] + skin;  // 2 h_ij (+ the skin)
-          if (dx * dx + dy * dy + dz * dz < reach * reach) f(j);
-        }
+        rows.s0[rows.count] = cell_start_[static_cast<std::size_t>(a - cell_key_.begin())];
+        rows.s1[rows.count] = cell_start_[static_cast<std::size_t>(b - cell_key_.begin())];
+        rows.candidates += rows.s1[rows.count] - rows.s0[rows.count];
+        ++rows.count;
       }
     }
   };
 
   // One pass over the candidates: each chunk of kGrain points (in sorted order, so neighbouring
-  // points share cache lines) gathers its points' lists into its own buffer, kept between builds;
-  // the counts give the offsets, and the buffers are copied into place. The chunks are fixed by
-  // n alone, and a list's content does not depend on its chunk, so any thread count gives the
-  // same lists.
+  // points share cache lines, and the points of one cell share their rows, found once) gathers
+  // its points' lists into its own buffer, kept between builds; the counts give the offsets, and
+  // the buffers are copied into place. Candidates are appended without a branch (written, then
+  // counted if within reach), into room for all of them. The chunks are fixed by n alone, and a
+  // list's content does not depend on its chunk, so any thread count gives the same lists.
   const std::size_t chunks = (n + kGrain - 1) / kGrain;
   if (chunk_list_.size() < chunks) chunk_list_.resize(chunks);
+  chunk_used_.resize(chunks);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t c = r.begin(); c < r.end(); ++c) {
                         std::vector<std::uint32_t>& buf = chunk_list_[c];
-                        buf.clear();
+                        std::size_t used = 0;
+                        Rows rows;
+                        std::uint64_t rows_key = 0;
+                        bool have_rows = false;
                         for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
                           const std::size_t i = sorted_[s];
                           if (i >= n_lists) continue;  // a point that is only a neighbour
-                          const std::size_t before = buf.size();
-                          visit(i, [&](std::uint32_t j) { buf.push_back(j); });
+                          const std::uint64_t key = keyed_[s].key;
+                          if (!have_rows || key != rows_key) {
+                            rows_around(key, rows);
+                            rows_key = key;
+                            have_rows = true;
+                          }
+                          if (buf.size() < used + rows.candidates) {
+                            buf.resize(std::max(2 * buf.size(), used + rows.candidates));
+                          }
+                          std::uint32_t* out = buf.data() + used;
+                          std::size_t m = 0;
+                          const double xi = xs_[s], yi = ys_[s], zi = zs_[s], hi_ = hs_[s];
+                          for (std::uint32_t row = 0; row < rows.count; ++row) {
+                            for (std::uint32_t t = rows.s0[row]; t < rows.s1[row]; ++t) {
+                              const double dx = xi - xs_[t], dy = yi - ys_[t], dz = zi - zs_[t];
+                              const double reach = hi_ + hs_[t] + skin;  // 2 h_ij (+ the skin)
+                              out[m] = sorted_[t];
+                              m += (dx * dx + dy * dy + dz * dz < reach * reach) & (t != s) ? 1 : 0;
+                            }
+                          }
                           // Ascending index: the canonical order, whatever the cells and skin.
-                          std::sort(buf.begin() + static_cast<std::ptrdiff_t>(before), buf.end());
-                          offsets_[i + 1] = buf.size() - before;
+                          std::sort(out, out + m);
+                          offsets_[i + 1] = m;
+                          used += m;
                         }
+                        chunk_used_[c] = used;
                       }
                     });
   for (std::size_t i = 0; i < n_lists; ++i) offsets_[i + 1] += offsets_[i];

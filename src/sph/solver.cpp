@@ -101,7 +101,11 @@ struct SphSolver::Impl {
   // With mirror particles the gather passes read these copies of the columns (real particles,
   // then their images); without, they read the columns themselves.
   AlignedVector<double> ex, ey, ez, evx, evy, evz, em, erho, ec;
-  std::vector<double> pair_w;                     // per neighbour-list entry (viscous_heating_term)
+  // Per neighbour-list entry: the pairs within support at the last forces pass, compacted to the
+  // front of each list's slots (active_count[i] of them), and their viscous weights
+  // (viscous_heating_term).
+  std::vector<std::uint32_t> active, active_count;
+  std::vector<double> pair_w;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
   std::vector<std::uint32_t> order;
   std::vector<StageTiming> timings;
@@ -330,11 +334,24 @@ struct SphSolver::Impl {
 
   // Builds the lists with the skin (sph.skin x 2 max h) and records the positions and h they
   // were built at.
-  void build_search(bool with_skin = true) {
+  // With lists = false, only the cells of a build without a skin (NeighbourSearch::bin), for a
+  // re-order: the same cells a full build gives, at a fraction of its cost.
+  void build_search(bool with_skin = true, bool lists = true) {
     const ParticleStore& P = s.particles_;
     const std::size_t n = P.size();
     const double hmax = exact_max(n, [&](std::size_t p) { return h[p]; });
     skin_abs = with_skin ? s.sph_.skin * 2.0 * hmax : 0.0;
+    if (!lists) {
+      lists_valid = false;
+      if (mirrors) {
+        make_ghosts(hmax);
+        search.bin(ex.data(), ey.data(), ez.data(), h.data(), n + ghosts.size());
+      } else {
+        search.bin(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
+                   n);
+      }
+      return;
+    }
     if (mirrors) {
       make_ghosts(hmax);
       search.build(ex.data(), ey.data(), ez.data(), h.data(), n + ghosts.size(), n, skin_abs);
@@ -380,9 +397,9 @@ struct SphSolver::Impl {
       const bool reorder = may_reorder && every > 0 && s.clock_.step % every == 0;
       if (!reorder && lists_valid && xb.size() == P.size()) {
         // Verlet lists: keep the last build's lists while they cover every pair. The passes
-        // skip the skin's entries and the lists are in index order, so the sums are those of
-        // fresh lists, bit for bit (tested), and a resumed run that builds afresh continues
-        // identically.
+        // run over the lists compacted to the pairs within support (the skin's entries
+        // dropped) and the lists are in index order, so the sums are those of fresh lists, bit
+        // for bit (tested), and a resumed run that builds afresh continues identically.
         smoothing_lengths();
         if (lists_still_cover()) {
           if (mirrors) place_ghosts();
@@ -392,8 +409,9 @@ struct SphSolver::Impl {
       resize(P.size());
       smoothing_lengths();
       // Before a re-order, the cells that order memory must not depend on the skin (they would
-      // change the particle order and so the bits): those of a build without one.
-      build_search(!reorder);
+      // change the particle order and so the bits): those of a build without one, binned only
+      // (the lists would be stale after the re-order).
+      build_search(!reorder, !reorder);
       if (reorder) {
         // Re-order each material group by cell (stable, so deterministic): the gather passes
         // then stream through memory. The lists are rebuilt for the new order.
@@ -448,13 +466,21 @@ struct SphSolver::Impl {
     f.viscosity.beta = s.sph_.beta;
     for (int d = 0; d < 3; ++d) f.gravity[d] = s.config_.gravity[d];
     if (pair_w.size() < search.pairs()) pair_w.resize(search.pairs());
+    if (active.size() < search.pairs()) active.resize(search.pairs());
+    active_count.resize(n);
     const ks::ForceOutputs out{ax.data(),   ay.data(), az.data(),
                                heat.data(), mu.data(), pair_w.data()};
+    // Each list is first compacted to its pairs within support (a Verlet list's skin entries
+    // dropped), which the next step's rates pass reuses: it runs at these same positions and h.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kPairGrain),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                          ks::forces_particle(in, f, search.begin_of(i), search.count(i), i, out,
-                                              search.offset(i));
+                          const std::size_t off = search.offset(i);
+                          const std::size_t m = ks::compact_within_support(
+                              in, search.begin_of(i), search.count(i), i, active.data() + off);
+                          active_count[i] = static_cast<std::uint32_t>(m);
+                          ks::forces_particle<simd::Batch>(in, f, active.data() + off, m, i, out,
+                                                           off);
                         }
                       });
     // The images' a^n, for the next kick's viscous heat (rates pass).
@@ -517,7 +543,6 @@ struct SphSolver::Impl {
     }
     ks::PairInputs in = inputs();
     in.h = h_mid.data();
-    in.h_support = h.data();  // the lists' criterion at x^n (skips the skin's entries)
     ks::RateOutputs out;
     for (int c = 0; c < 6; ++c) out.deps[c] = P.col(kDepsOrder[c]).data();
     for (int c = 0; c < 3; ++c) out.dspin[c] = P.col(kSpinOrder[c]).data();
@@ -532,8 +557,11 @@ struct SphSolver::Impl {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kPairGrain),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                          ks::rates_particle(in, search.begin_of(i), search.count(i), i, dt, out,
-                                             kick, search.offset(i));
+                          // The pairs within support at x^n and h^n, compacted by the forces
+                          // pass of the last step (or of the constructor or restore()).
+                          const std::size_t off = search.offset(i);
+                          ks::rates_particle<simd::Batch>(in, active.data() + off, active_count[i],
+                                                          i, dt, out, kick, off);
                         }
                       });
   }

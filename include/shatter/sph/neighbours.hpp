@@ -8,11 +8,11 @@
 // a neighbour of i when j != i and |x_i - x_j| < h_i + h_j + skin (2 h_ij is the support of
 // W(r, h_ij); the skin, 0 by default, lets the lists serve several steps, Verlet lists). Each list
 // is in ascending index order: canonical, independent of the cells, the skin and the thread
-// count, so a gather over a list with a skin (whose extra entries the passes skip) sums the same
-// terms in the same order as over a fresh list without one, and the sums have the same bits.
-// Buffers are reused: a build allocates only while a buffer grows past its largest size so far (the
-// lists are gathered in one pass per chunk of points into per-chunk buffers, then copied into
-// place), so a run stops allocating once its neighbour counts stop growing.
+// count, so a gather over a list with a skin (whose extra entries the forces pass compacts away)
+// sums the same terms in the same order as over a fresh list without one, and the sums have the
+// same bits. Buffers are reused: a build allocates only while a buffer grows past its largest size
+// so far (the lists are gathered in one pass per chunk of points into per-chunk buffers, then
+// copied into place), so a run stops allocating once its neighbour counts stop growing.
 
 #include <cstddef>
 #include <cstdint>
@@ -29,6 +29,11 @@ class NeighbourSearch {
   // neighbours and have no list of their own (the mirror particles of the SPH boundaries).
   void build(const double* x, const double* y, const double* z, const double* h, std::size_t n,
              std::size_t n_lists, double skin = 0.0);
+
+  // Only the binning of a build without a skin: cells() and cell_size() as build() would give
+  // them, no lists (lists() = 0). For re-ordering particles by cell without building lists that
+  // the re-order makes stale.
+  void bin(const double* x, const double* y, const double* z, const double* h, std::size_t n);
 
   // Points in the last build, and those with a list.
   std::size_t size() const { return n_; }
@@ -54,6 +59,12 @@ class NeighbourSearch {
   std::size_t bytes() const;
 
  private:
+  // The cells, sorted points and (n_lists + 1) offsets' first entry; false for no points.
+  bool sort_by_cell(const double* x, const double* y, const double* z, const double* h,
+                    std::size_t n, std::size_t n_lists, double skin);
+  void make_lists(const double* x, const double* y, const double* z, const double* h, std::size_t n,
+                  std::size_t n_lists, double skin);
+
   struct KeyIndex {
     std::uint64_t key;
     std::uint32_t index;
@@ -71,7 +82,9 @@ class NeighbourSearch {
   std::vector<std::uint32_t> sorted_;      // point indices sorted by cell, then index
   std::vector<std::size_t> offsets_;       // CSR offsets of the lists (n + 1)
   std::vector<std::uint32_t> list_;        // neighbour indices
+  std::vector<double> xs_, ys_, zs_, hs_;  // positions and h in sorted order
   std::vector<std::vector<std::uint32_t>> chunk_list_;  // per chunk of points, reused
+  std::vector<std::size_t> chunk_used_;                 // entries of each chunk's buffer in use
 };
 
 }  // namespace shatter::sph
