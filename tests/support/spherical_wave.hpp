@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 
 #include "shatter/core/particles.hpp"
+#include "shatter/engine/config.hpp"
 #include "support/lattice.hpp"
 
 namespace shatter::test::spherical_wave {
@@ -134,6 +135,17 @@ inline ParticleStore make_octant(int cells_per_a, double ct0_over_a) {
     }
   }
   return s;
+}
+
+// The octant's solver settings: cell h = a / cells_per_a (the MPM grid; SPH takes only the
+// domain), symmetry planes x = y = z = 0, the other faces free.
+inline SolverConfig octant_config(int cells_per_a) {
+  SolverConfig cfg;
+  cfg.cell_size = kA / cells_per_a;
+  cfg.domain.lo = Vector3d::Zero();
+  cfg.domain.faces = {BoundaryKind::symmetry, BoundaryKind::none,     BoundaryKind::symmetry,
+                      BoundaryKind::none,     BoundaryKind::symmetry, BoundaryKind::none};
+  return cfg;
 }
 
 // Compares every point of P whose radius lies within the pulse's support at c t = ct_over_a a,

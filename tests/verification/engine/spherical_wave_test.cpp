@@ -56,13 +56,8 @@ namespace {
 WaveErrors run_spherical_wave(int cells_per_a, double ct_over_a = 2.5, double ct0_over_a = 0.0) {
   const Elastic m;
   auto mat = std::make_shared<LinearElastic>(kRho, kYoung, kPoisson);
-  const double h = kA / cells_per_a;
   const double t0 = ct0_over_a * kA / m.c;
-  SolverConfig cfg;
-  cfg.cell_size = h;
-  cfg.domain.lo = Vector3d::Zero();
-  cfg.domain.faces = {BoundaryKind::symmetry, BoundaryKind::none,     BoundaryKind::symmetry,
-                      BoundaryKind::none,     BoundaryKind::symmetry, BoundaryKind::none};
+  const SolverConfig cfg = octant_config(cells_per_a);
   Simulation sim(cfg, make_octant(cells_per_a, ct0_over_a), {mat}, 0);
   const double t = ct_over_a * kA / m.c;
   sim.advance_to(t - t0);

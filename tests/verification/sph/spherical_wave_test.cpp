@@ -51,13 +51,8 @@ WaveErrors run_spherical_wave(int cells_per_a, double ct_over_a = 2.5, double ct
                               double h_factor = 1.2) {
   const Elastic m;
   auto mat = std::make_shared<LinearElastic>(kRho, kYoung, kPoisson);
-  const double h = kA / cells_per_a;
   const double t0 = ct0_over_a * kA / m.c;
-  SolverConfig cfg;
-  cfg.cell_size = h;  // sets nothing but the MPM grid; the lattice spacing is h / 2
-  cfg.domain.lo = Vector3d::Zero();
-  cfg.domain.faces = {BoundaryKind::symmetry, BoundaryKind::none,     BoundaryKind::symmetry,
-                      BoundaryKind::none,     BoundaryKind::symmetry, BoundaryKind::none};
+  const SolverConfig cfg = octant_config(cells_per_a);
   sph::SphConfig sc;
   sc.h_factor = h_factor;
   sph::SphSolver sim(cfg, sc, make_octant(cells_per_a, ct0_over_a), {mat}, 0);
