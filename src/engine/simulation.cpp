@@ -57,6 +57,20 @@ void vgrad_columns(ParticleStore& P, T* (&out)[9]) {
 // neighbour list (one run per block, except where bodies meet: then one per body): the unit
 // of work of the gathers, which copy the run's nodes into a window first. Each particle's
 // result depends on its own stencil only, so the split does not change any value.
+// Block b's particles in consecutive runs that share one neighbour list: run(particles, list).
+template <class Run>
+void for_each_list_run(const SparseGrid& grid, std::uint32_t b, Run&& run) {
+  const auto owned = grid.owned(b);
+  std::size_t i = 0;
+  while (i < owned.size()) {
+    const std::uint32_t list = grid.list_of(owned[i]);
+    std::size_t j = i + 1;
+    while (j < owned.size() && grid.list_of(owned[j]) == list) ++j;
+    run(owned.subspan(i, j - i), list);
+    i = j;
+  }
+}
+
 template <class Scratch, class Body>
 void for_each_run(const SparseGrid& grid, Body&& body) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.shared_blocks(), 1),
@@ -64,15 +78,9 @@ void for_each_run(const SparseGrid& grid, Body&& body) {
                       Scratch scratch;
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const auto b = static_cast<std::uint32_t>(k);
-                        const auto owned = grid.owned(b);
-                        std::size_t i = 0;
-                        while (i < owned.size()) {
-                          const std::uint32_t list = grid.list_of(owned[i]);
-                          std::size_t j = i + 1;
-                          while (j < owned.size() && grid.list_of(owned[j]) == list) ++j;
-                          body(owned.subspan(i, j - i), grid.coord(b), grid.list(list), scratch);
-                          i = j;
-                        }
+                        for_each_list_run(grid, b, [&](auto run, std::uint32_t list) {
+                          body(run, grid.coord(b), grid.list(list), scratch);
+                        });
                       }
                     });
 }
@@ -585,13 +593,7 @@ void Simulation::Impl::p2g_bodies(const kernels::P2GParticles& in, bool with_for
           kernels::P2GScratch scratch;
           for (std::size_t k = r.begin(); k < r.end(); ++k) {
             const std::uint32_t b = blocks[k];
-            const auto owned = grid.owned(b);
-            std::size_t i = 0;
-            while (i < owned.size()) {
-              const std::uint32_t list = grid.list_of(owned[i]);
-              std::size_t j = i + 1;
-              while (j < owned.size() && grid.list_of(owned[j]) == list) ++j;
-              const auto run = owned.subspan(i, j - i);
+            for_each_list_run(grid, b, [&](auto run, std::uint32_t list) {
               const std::uint32_t* nb = grid.list(list);
               if (with_force && affine) {
                 kernels::p2g_block<Shape, true, true>(in, run, grid.coord(b), nb, grid.nodes(),
@@ -605,8 +607,7 @@ void Simulation::Impl::p2g_bodies(const kernels::P2GParticles& in, bool with_for
                 kernels::mass_gradient_block<Shape>(in, run, grid.coord(b), nb, first_copy,
                                                     grid.nodes(), scratch);
               }
-              i = j;
-            }
+            });
           }
         });
   }
