@@ -129,8 +129,13 @@ def hilbert_key(c: np.ndarray, bits: int) -> np.ndarray:
     return key
 
 
-def sfc_key(c: np.ndarray, curve: str) -> np.ndarray:
-    bits = max(1, int(np.max(c)).bit_length()) if len(c) else 1
+def sfc_key(c: np.ndarray, curve: str, bits: int | None = None) -> np.ndarray:
+    """Key of block coordinates c; `bits` per axis fixed by the domain so that keys of two
+    states of one scene compare (the curve's orientation depends on the number of levels)."""
+    need = max(1, int(np.max(c)).bit_length()) if len(c) else 1
+    bits = need if bits is None else bits
+    if bits < need:
+        raise ValueError(f"block coordinate {int(np.max(c))} needs {need} bits, {bits} given")
     if curve == "morton":
         return morton_key(c, bits)
     if curve == "hilbert":
@@ -144,6 +149,7 @@ def sfc_key(c: np.ndarray, curve: str) -> np.ndarray:
 
 BLOCK = 4  # nodes (cells) per block edge
 PPC = 2  # points per cell per axis
+SHIFT = 1  # added to the engine's block index so that coordinates are >= 0 (blocks at -1 exist)
 
 
 @dataclass
@@ -152,6 +158,7 @@ class Geometry:
     weight: np.ndarray  # (n,) particles per block (float: deposited states are fractional)
     cell: float = 0.0  # m
     label: str = ""
+    bits: int | None = None  # SFC levels per axis (the domain's, for the asteroid scene)
 
     @property
     def particles(self) -> float:
@@ -170,20 +177,25 @@ def _merge(coords: list, weights: list) -> tuple[np.ndarray, np.ndarray]:
 
 
 def sphere_block_counts(centre, radius, cell, lo, zmin=0.0):
-    """Exact number of lattice points (PPC per cell per axis at (i + 1/4) and (i + 3/4) cells
-    from lo, the scene's fill: points inside the sphere) per block, points with z > zmin only
-    (the half model). Blocks wholly inside count BLOCK^3 PPC^3 without testing."""
+    """Exact number of lattice points per owner block: PPC points per cell per axis at (i + 1/4)
+    and (i + 3/4) cells from lo inside the sphere (the scene's fill), z > zmin only (the half
+    model). The owner block holds the first node of a point's 3-node stencil
+    (docs/architecture.md, Grid): a point at (c + 1/4) h starts at node c - 1, one at
+    (c + 3/4) h at node c, so block B (engine index) owns the 8 points per axis at
+    lo + 4 B h + (k + 3/2) h / 2, k = 0..7, and the points just above z = 0 belong to blocks at
+    z index -1. Returned coordinates are the engine's block index + SHIFT (all >= 0). Blocks
+    wholly inside count BLOCK^3 PPC^3 without testing."""
     bsize = BLOCK * cell
     centre = np.asarray(centre, float)
     lo = np.asarray(lo, float)
-    bl = np.floor((centre - radius - lo) / bsize).astype(int)
-    bh = np.floor((centre + radius - lo) / bsize).astype(int)
-    bl[2] = max(bl[2], int(np.floor((zmin - lo[2]) / bsize)))
+    first = 0.75 * cell  # offset of a block's first point from the block's first node
+    bl = np.floor((centre - radius - lo - first) / bsize).astype(int)
+    bh = np.floor((centre + radius - lo - first) / bsize).astype(int) + 1
+    bl[2] = max(bl[2], int(np.floor((zmin - lo[2] - first) / bsize)))
     ax = [np.arange(bl[a], bh[a] + 1) for a in range(3)]
     g = np.stack(np.meshgrid(*ax, indexing="ij"), -1).reshape(-1, 3)
-    # extent of the block's lattice points
-    plo = lo + g * bsize + 0.25 * cell
-    phi = lo + (g + 1) * bsize - 0.25 * cell
+    plo = lo + g * bsize + first  # extent of the block's points
+    phi = lo + g * bsize + first + (BLOCK * PPC - 1) * (cell / PPC)
     near = np.sqrt(np.sum((np.clip(centre, plo, phi) - centre) ** 2, axis=1))
     far = np.sqrt(np.sum(np.maximum(np.abs(plo - centre), np.abs(phi - centre)) ** 2, axis=1))
     zlow = plo[:, 2] <= zmin  # block straddles the symmetry plane
@@ -192,7 +204,7 @@ def sphere_block_counts(centre, radius, cell, lo, zmin=0.0):
     counts = [np.full(full.sum(), float(BLOCK**3 * PPC**3))]
     coords = [g[full]]
     eg = g[edge]
-    off = (np.arange(BLOCK * PPC) + 0.5) * (cell / PPC)  # point offsets inside a block
+    off = first + np.arange(BLOCK * PPC) * (cell / PPC)  # point offsets inside a block
     for s in range(0, len(eg), 4096):
         e = eg[s:s + 4096]
         base = lo + e * bsize
@@ -206,7 +218,14 @@ def sphere_block_counts(centre, radius, cell, lo, zmin=0.0):
     c = np.concatenate(coords)
     w = np.concatenate(counts)
     keep = w > 0
-    return c[keep], w[keep]
+    return c[keep] + SHIFT, w[keep]
+
+
+def owner_block(x, cell, lo):
+    """Owner block (engine index + SHIFT) of positions x (n, 3): the block of the first node of
+    the 3-node stencil, round(x / h) - 1."""
+    first = np.floor((x - lo) / cell + 0.5).astype(np.int64) - 1
+    return np.floor_divide(first, BLOCK) + SHIFT
 
 
 # The asteroid scene (scenes/asteroid-collision.toml; src/scene/impact.cpp places the projectile
@@ -229,11 +248,15 @@ def cell_for_points(n_points: float) -> float:
     return (DOMAIN_HI[0] - DOMAIN_LO[0]) / ncell
 
 
+def domain_bits(cell: float) -> int:
+    return int(math.ceil((DOMAIN_HI - DOMAIN_LO).max() / (BLOCK * cell)) + SHIFT).bit_length()
+
+
 def asteroid_initial(cell: float) -> Geometry:
     parts = [sphere_block_counts((0, 0, 0), R_TARGET, cell, DOMAIN_LO),
              sphere_block_counts(PROJ_CENTRE, R_PROJ, cell, DOMAIN_LO)]
     c, w = _merge([p[0] for p in parts], [p[1] for p in parts])
-    return Geometry(c, w, cell, f"asteroid t=0, cell {cell:.1f} m")
+    return Geometry(c, w, cell, f"asteroid t=0, cell {cell:.1f} m", domain_bits(cell))
 
 
 def deposit(positions, volumes, n_total, cell, label, max_sub=12) -> Geometry:
@@ -254,10 +277,10 @@ def deposit(positions, volumes, n_total, cell, label, max_sub=12) -> Geometry:
         p = p.reshape(-1, 3)
         p[:, 2] = np.abs(p[:, 2])
         inside = np.all((p >= DOMAIN_LO) & (p < DOMAIN_HI), axis=1)
-        coords.append(np.floor((p[inside] - DOMAIN_LO) / bsize).astype(np.int64))
+        coords.append(owner_block(p[inside], cell, DOMAIN_LO))
         weights.append(np.full(inside.sum(), per / k**3))
     c, w = _merge(coords, weights)
-    return Geometry(c, w, cell, label)
+    return Geometry(c, w, cell, label, domain_bits(cell))
 
 
 def uniform_cube(n_blocks: int, per_block: float = 512.0) -> Geometry:
@@ -329,13 +352,21 @@ class Halo:
     alloc_extra: np.ndarray  # per rank: nodes reached in other ranks' blocks
 
 
-def halo(top: Topology, owner_occ: np.ndarray, ranks: int) -> Halo:
+def halo(top: Topology, owner_occ: np.ndarray, ranks: int, owner_alloc=None) -> Halo:
+    """Halo of a decomposition: owner_occ per occupied block; owner_alloc per allocated block
+    (top.alloc), or None for the 'reacher' rule (a reached-only block belongs to the occupied
+    block reaching most of its nodes, REACH_ORDER)."""
     geom = top.geom
     reach = top.reach
     occ_of = np.where(reach >= 0, owner_occ[np.maximum(reach, 0)], -1)  # (m, 8) rank of B - o
-    own = occ_of[:, 0].copy()
-    for o in REACH_ORDER:
-        own = np.where(own < 0, occ_of[:, o], own)
+    if owner_alloc is None:
+        own = occ_of[:, 0].copy()
+        for o in REACH_ORDER:
+            own = np.where(own < 0, occ_of[:, o], own)
+    else:
+        own = np.asarray(owner_alloc)
+        occupied = occ_of[:, 0] >= 0
+        assert np.array_equal(own[occupied], occ_of[occupied, 0])
     pairs = []
     for c in range(8):
         cols = [o for o in range(8) if np.all(OFFSETS[o] <= OFFSETS[c])]
@@ -358,11 +389,21 @@ def decompose(top: Topology, ranks: int, curve: str, starts=None):
     """Owner of each occupied block for `ranks` ranks; with `starts` (cut keys of an earlier
     state) the ranks keep their key intervals (no rebalancing)."""
     if curve not in top.keys:
-        top.keys[curve] = sfc_key(top.geom.coords, curve)
-    keys = top.keys[curve]
+        bits = top.geom.bits
+        if bits is not None:  # reached blocks lie one beyond the occupied ones
+            bits = max(bits, int(top.alloc.max()).bit_length())
+        top.keys[curve] = (sfc_key(top.geom.coords, curve, bits),
+                           sfc_key(top.alloc, curve, bits))
+    keys = top.keys[curve][0]
     if starts is None:
         starts = cut(keys, top.geom.weight, ranks)
     return owners_from_cuts(keys, starts), starts
+
+
+def alloc_owner_by_interval(top: Topology, curve: str, starts) -> np.ndarray:
+    """The 'interval' rule (the mpi helper's Decomposition::rank_of): every block key, occupied
+    or not, belongs to the rank whose curve interval holds it."""
+    return owners_from_cuts(top.keys[curve][1], starts)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -460,9 +501,13 @@ def step_cost(h: Halo, prm: Params) -> StepCost:
         t_serial=float(total * tp), parts=parts)
 
 
-def analyse(top: Topology, ranks: int, curve: str, prm: Params, starts=None) -> StepCost:
-    own, _ = decompose(top, ranks, curve, starts)
-    return step_cost(halo(top, own, ranks), prm)
+def analyse(top: Topology, ranks: int, curve: str, prm: Params, starts=None,
+            empty: str = "interval") -> StepCost:
+    """empty: who owns a block that holds no particle but is reached ('interval': the rank
+    whose key interval holds it, the mpi helper's rule; 'reacher': see halo())."""
+    own, starts = decompose(top, ranks, curve, starts)
+    alloc = alloc_owner_by_interval(top, curve, starts) if empty == "interval" else None
+    return step_cost(halo(top, own, ranks, alloc), prm)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -483,10 +528,11 @@ def cube_halo_expected(n_blocks: int, parts: int) -> int:
     return prod - f**3
 
 
-def brute_force_halo(geom: Geometry, owner_occ: np.ndarray, ranks: int) -> dict:
+def brute_force_halo(geom: Geometry, owner_occ: np.ndarray, ranks: int,
+                     empty_owner=None) -> dict:
     """Node-by-node reference: every occupied block reaches its 6^3 nodes; a node belongs to
-    its block's owner (for a reached-only block, the REACH_ORDER rule); returns {(src, dst):
-    nodes}. Small geometries only."""
+    its block's owner (for a reached-only block, empty_owner(block tuple) or else the
+    REACH_ORDER rule); returns {(src, dst): nodes}. Small geometries only."""
     reached: dict = {}
     for b, r in zip(geom.coords, owner_occ):
         base = b * BLOCK
@@ -499,6 +545,8 @@ def brute_force_halo(geom: Geometry, owner_occ: np.ndarray, ranks: int) -> dict:
     def block_owner(bc):
         if bc in occ:
             return occ[bc]
+        if empty_owner is not None:
+            return empty_owner(bc)
         for o in REACH_ORDER:
             nb = tuple(int(x) for x in np.array(bc) - OFFSETS[o])
             if nb in occ:
@@ -564,7 +612,9 @@ def main(argv=None):
                     help="particles per rank for weak scaling")
     ap.add_argument("--max-ranks", type=int, default=1024)
     ap.add_argument("--debris", type=Path, help="run folder of a coarse asteroid run (snapshots)")
-    ap.add_argument("--debris-times", type=float, nargs="*", default=[15.0, 50.0, 100.0])
+    ap.add_argument("--debris-times", type=float, nargs="*", default=[5.0, 15.0, 50.0, 100.0])
+    ap.add_argument("--drift", type=Path, help="run folder with closely spaced snapshots: "
+                    "imbalance when each snapshot's cuts serve until the next")
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "figures" / "scaling")
     ap.add_argument("--tables", type=Path, help="write the markdown tables here")
     ap.add_argument("--t-particle-ns", type=float, default=Params.t_particle_ns)
@@ -638,8 +688,8 @@ def main(argv=None):
     lat = Params(**{**prm.__dict__, "beta_net": 1e30, "beta_shm": 1e30, "copy_bandwidth": 1e30})
     bw = Params(**{**prm.__dict__, "alpha_net": 0.0, "alpha_shm": 0.0})
     for p in (64, 256, 1024, 4096, 16384):
-        own, _ = decompose(top, p, "hilbert")
-        hh = halo(top, own, p)
+        own, st = decompose(top, p, "hilbert")
+        hh = halo(top, own, p, alloc_owner_by_interval(top, "hilbert", st))
         a, b_, c_ = step_cost(hh, prm), step_cost(hh, lat), step_cost(hh, bw)
         pk = (a.t_compute - np.max(hh.particles * prm.t_particle_ns * 1e-9))
         md.append(f"| {p} | {a.t_comm * 1e3:.3g} | {b_.t_comm * 1e3:.3g} | {c_.t_comm * 1e3:.3g} | "
@@ -647,6 +697,31 @@ def main(argv=None):
                   f"{(a.parts['phase2'] + a.parts['phase3']) * 1e3:.3g} | "
                   f"{a.parts['migration'] * 1e3:.3g} | {a.parts['allreduce'] * 1e3:.3g} | "
                   f"{pk * 1e3:.3g} |")
+
+    # Who owns reached-only blocks: the key interval (the mpi helper's rule) or a reaching rank.
+    md.append(f"\n## Reached-only blocks: interval rule against reacher rule, {g.particles:,.0f} "
+              "points\n")
+    md.append("| curve | P | halo bytes/step interval / reacher | neighbours mean (max) interval / "
+              "reacher | efficiency interval / reacher |")
+    md.append("|---|---:|---:|---:|---:|")
+    for curve in curves:
+        for p in (64, 256, 1024):
+            a = analyse(top, p, curve, prm, empty="interval")
+            b_ = analyse(top, p, curve, prm, empty="reacher")
+            md.append(f"| {curve} | {p} | {fmt_bytes(a.halo_bytes)} / {fmt_bytes(b_.halo_bytes)} | "
+                      f"{a.neighbours_mean:.1f} ({a.neighbours_max}) / {b_.neighbours_mean:.1f} "
+                      f"({b_.neighbours_max}) | {a.t_serial / (p * a.t_step) * 100:.1f}% / "
+                      f"{b_.t_serial / (p * b_.t_step) * 100:.1f}% |")
+
+    # Hybrid: one rank per node of 64 cores, TBB threads inside (perfect threading assumed):
+    # compute per particle-step / 64, every message inter-node.
+    # Packing by the node's threads at ~100 GB/s of copy (a third of a two-socket node's STREAM).
+    hyb = Params(**{**prm.__dict__, "t_particle_ns": prm.t_particle_ns / 64.0,
+                    "ranks_per_node": 1, "copy_bandwidth": 100e9 / 2})
+    hyb_rows = [analyse(top, p, "hilbert", hyb) for p in ranks]
+    md.append(f"\n## Strong scaling, {g.particles:,.0f} points, hilbert, hybrid: one rank per "
+              "64-core node (P = nodes), compute 525/64 ns per particle-step\n")
+    md.append(table(hyb_rows))
 
     # Faster compute (issue 12's target): the same decompositions, compute 200 ns.
     fast = Params(t_particle_ns=200.0)
@@ -667,9 +742,11 @@ def main(argv=None):
         md.append(f"t = 0 deposited: {g0.particles:,.0f} points in {len(g0.weight):,} blocks "
                   f"(exact lattice: {g.particles:,.0f} in {len(g.weight):,}).\n")
         md.append("| t (s) | P | occupied blocks | imbalance, t=0 cuts | efficiency, t=0 cuts | "
-                  "imbalance, rebalanced | halo bytes/step rebalanced | efficiency, rebalanced |")
-        md.append("|---:|---:|---:|---:|---:|---:|---:|---:|")
+                  "imbalance, rebalanced | halo bytes/step rebalanced | efficiency, rebalanced | "
+                  "particles a recut moves |")
+        md.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
         wanted = [0.0] + list(args.debris_times)
+        seen = set()
         for tw in wanted:
             best = None
             for s in snaps:
@@ -677,6 +754,9 @@ def main(argv=None):
                     ts = float(f.attrs["time"])
                 if best is None or abs(ts - tw) < abs(best[1] - tw):
                     best = (s, ts)
+            if best[0] in seen:
+                continue
+            seen.add(best[0])
             x, vol, ts = load_snapshot(best[0])
             gt = deposit(x, vol, args.points * len(x) / n0, cell, f"t={ts:g}")
             tt = topology(gt)
@@ -688,12 +768,19 @@ def main(argv=None):
                 new = analyse(tt, p, "hilbert", prm)
                 e_old = old.t_serial / (p * old.t_step)
                 e_new = new.t_serial / (p * new.t_step)
+                o_old, _ = decompose(tt, p, "hilbert", starts0)
+                o_new, _ = decompose(tt, p, "hilbert")
+                moved = gt.weight[o_old != o_new].sum() / gt.particles
                 debris.append((ts, p, old, new, e_old, e_new))
                 md.append(f"| {ts:g} | {p} | {len(gt.weight):,} | {old.imbalance:.2f} | "
                           f"{e_old * 100:.1f}% | {new.imbalance:.3f} | {fmt_bytes(new.halo_bytes)} | "
-                          f"{e_new * 100:.1f}% |")
+                          f"{e_new * 100:.1f}% | {moved * 100:.1f}% |")
             print(f"debris t={ts:g}: {gt.particles:.4g} points, {len(gt.weight)} blocks",
                   file=sys.stderr)
+
+    if args.drift:
+        md.append(drift_table(args.drift, args.points, cell, prm, [p for p in (64, 256, 1024)
+                                                                     if p <= args.max_ranks]))
 
     text = "\n".join(md) + "\n"
     if args.tables:
@@ -715,10 +802,42 @@ def main(argv=None):
                         f"{r.imbalance:.4f}", f"{r.halo_bytes:.0f}", f"{r.halo_bytes_max:.0f}",
                         r.messages_max, f"{r.neighbours_mean:.2f}", r.neighbours_max,
                         f"{r.t_compute:.6g}", f"{r.t_comm:.6g}", f"{r.t_step:.6g}", f"{eff:.4f}"])
-    plot(args.out, ranks, g, strong, scene_strong, weak, fast_rows, debris)
+    plot(args.out, ranks, g, strong, scene_strong, weak, fast_rows, hyb_rows, debris)
 
 
-def plot(out, ranks, g, strong, scene_strong, weak, fast_rows, debris):
+def drift_table(run: Path, points: float, cell: float, prm: Params, ps) -> str:
+    """Cuts made at snapshot i serve until snapshot i + 1: imbalance and efficiency just before
+    the next recut, and the share of particles that recut moves."""
+    snaps = sorted((run / "snapshots").glob("snapshot_*.h5"))
+    n0 = None
+    out = [f"\n## Drift between recuts ({run.name}: snapshots every "
+           "Delta t, cuts of one snapshot used at the next), hilbert\n",
+           "| t (s) | Delta t (s) | " + " | ".join(f"P={p}: imbalance, efficiency, moved by recut"
+                                                  for p in ps) + " |",
+           "|---:|---:|" + "---:|" * len(ps)]
+    prev = None
+    for s in snaps:
+        x, vol, ts = load_snapshot(s)
+        n0 = n0 or len(x)
+        gt = deposit(x, vol, points * len(x) / n0, cell, f"t={ts:g}")
+        tt = topology(gt)
+        if prev is not None:
+            cells = []
+            for p in ps:
+                _, starts = decompose(prev[1], p, "hilbert")
+                old = analyse(tt, p, "hilbert", prm, starts=starts)
+                o_old, _ = decompose(tt, p, "hilbert", starts)
+                o_new, _ = decompose(tt, p, "hilbert")
+                moved = gt.weight[o_old != o_new].sum() / gt.particles
+                cells.append(f"{old.imbalance:.2f}, {old.t_serial / (p * old.t_step) * 100:.0f}%, "
+                             f"{moved * 100:.1f}%")
+            out.append(f"| {ts:g} | {ts - prev[0]:g} | " + " | ".join(cells) + " |")
+            print(f"drift t={ts:g}", file=sys.stderr)
+        prev = (ts, tt)
+    return "\n".join(out)
+
+
+def plot(out, ranks, g, strong, scene_strong, weak, fast_rows, hyb_rows, debris):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -730,6 +849,8 @@ def plot(out, ranks, g, strong, scene_strong, weak, fast_rows, debris):
                label=f"{g.particles:.2g} points, Morton")
     a.semilogx(ranks, np.array(efficiency(fast_rows)) * 100, "^-",
                label=f"{g.particles:.2g}, compute 200 ns (issue 12 target)")
+    a.semilogx(ranks, np.array(efficiency(hyb_rows)) * 100, "v-",
+               label=f"{g.particles:.2g}, hybrid: P = 64-core nodes")
     for cell, rows in scene_strong.items():
         a.semilogx(ranks, np.array(efficiency(rows)) * 100, "x:",
                    label=f"scene at {cell:.0f} m ({rows[0].particles:,.0f} points)")

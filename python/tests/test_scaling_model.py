@@ -73,3 +73,36 @@ def test_equal_weight_cut_is_within_one_block():
         per = np.bincount(own, weights=g.weight, minlength=ranks)
         assert per.sum() == g.particles
         assert np.max(np.abs(per - g.particles / ranks)) <= g.weight.max()
+
+
+def test_block_counts_equal_point_by_point_owner_blocks():
+    """sphere_block_counts against every lattice point of the target at 1000 m cells put in the
+    block of its stencil's first node one by one (sm.owner_block)."""
+    cell = 1000.0
+    lo = sm.DOMAIN_LO
+    j = np.arange(int((sm.DOMAIN_HI[0] - lo[0]) / cell * sm.PPC))
+    x1 = lo[0] + (j + 0.5) * cell / sm.PPC
+    z1 = lo[2] + (j + 0.5) * cell / sm.PPC
+    x1 = x1[np.abs(x1) < sm.R_TARGET + cell]
+    z1 = z1[(z1 > 0) & (z1 < sm.R_TARGET + cell)]
+    p = np.stack(np.meshgrid(x1, x1, z1, indexing="ij"), -1).reshape(-1, 3)
+    p = p[np.sum(p**2, axis=1) < sm.R_TARGET**2]
+    b, n = np.unique(sm.owner_block(p, cell, lo), axis=0, return_counts=True)
+    c, w = sm.sphere_block_counts((0, 0, 0), sm.R_TARGET, cell, lo)
+    order = np.lexsort(c.T[::-1])
+    assert np.array_equal(c[order], b) and np.array_equal(w[order], n)
+
+
+@pytest.mark.parametrize("curve", ["morton", "hilbert"])
+@pytest.mark.parametrize("ranks", [4, 16])
+def test_interval_rule_equals_node_by_node_count(curve, ranks):
+    """With reached-only blocks owned by the rank whose curve interval holds their key (the
+    mpi helper's Decomposition::rank_of), the vectorised count against the node-by-node one."""
+    g = sm.asteroid_initial(1000.0)
+    top = sm.topology(g)
+    own, starts = sm.decompose(top, ranks, curve)
+    alloc = sm.alloc_owner_by_interval(top, curve, starts)
+    h = sm.halo(top, own, ranks, alloc)
+    lookup = {tuple(int(x) for x in b): int(r) for b, r in zip(top.alloc, alloc)}
+    fast = {(int(a), int(b)): int(c) for a, b, c in zip(h.pair_src, h.pair_dst, h.pair_nodes)}
+    assert fast == sm.brute_force_halo(g, own, ranks, lambda bc: lookup[bc])
