@@ -61,8 +61,9 @@ class Params:
     # (velocity, acceleration), MUSL remap scatter, its return (the mpi helper's design).
     phase_doubles: tuple = (7, 6, 4, 3)
     # Bytes per migrating particle: 44 double columns + id + body of the asteroid scene's
-    # checkpoint (Tillotson + linear hardening + Grady-Kipp, 1000 m run).
-    migrant_bytes: float = 46 * 8
+    # checkpoint (Tillotson + linear hardening + Grady-Kipp, 1000 m run), plus the group index
+    # the mpi helper's pack_particles puts in front of each row.
+    migrant_bytes: float = 47 * 8
     # Fraction of a cell a boundary particle crosses per step: cfl * v / (c + v), with v the
     # 99th percentile speed of the coarse run (~500 m/s) and c = 4.4 km/s.
     migrate_fraction: float = 0.3 * 500.0 / 4900.0
@@ -873,10 +874,12 @@ def plot(out, ranks, g, strong, scene_strong, weak, fast_rows, hyb_rows, debris)
     fig.savefig(out.with_suffix(".png"), dpi=110)
     if debris:
         fig, a = plt.subplots(figsize=(6, 4))
-        for p in sorted({d[1] for d in debris}):
+        for i, p in enumerate(sorted({d[1] for d in debris})):
             ds = [d for d in debris if d[1] == p]
-            a.plot([d[0] for d in ds], [d[4] * 100 for d in ds], "o--", label=f"P={p}, t=0 cuts")
-            a.plot([d[0] for d in ds], [d[5] * 100 for d in ds], "o-", label=f"P={p}, rebalanced")
+            a.plot([d[0] for d in ds], [d[4] * 100 for d in ds], "o--", color=f"C{i}",
+                   label=f"P={p}, t=0 cuts")
+            a.plot([d[0] for d in ds], [d[5] * 100 for d in ds], "s-", color=f"C{i}",
+                   label=f"P={p}, rebalanced")
         a.axhline(80, color="grey", lw=0.8)
         a.set_xlabel("simulated time (s)")
         a.set_ylabel("parallel efficiency (%)")
