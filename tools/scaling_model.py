@@ -15,9 +15,11 @@ Predicts strong and weak scaling from 1 to 1024 ranks for the asteroid collision
 The geometry works per block (particles counted per block, never one by one), so 1e8-1e9 points
 take seconds. docs/scaling.md explains every assumption and shows the results.
 
-    tools/scaling_model.py                       # tables + figures into docs/
-    tools/scaling_model.py --quick               # smaller runs (no 1e9-point weak scaling)
-    tools/scaling_model.py --debris out/RUN      # also the expanded debris of a coarse run
+    tools/scaling_model.py                       # tables to stdout, figures into docs/figures
+    tools/scaling_model.py --quick               # no 1e9-point weak scaling (~15 s)
+    tools/scaling_model.py --debris RUN --drift RUN2 --tables T.md
+        # also the debris cloud of a coarse run (snapshots up to 100 s) and the drift between
+        # recuts (snapshots every 0.5 s); docs/scaling.md gives the two run commands
 
 Halo geometry of one block (docs/architecture.md, Grid): a particle's stencil is 3 nodes wide
 and starts in its owner block, so an occupied block B reaches all 64 nodes of B and, of the
@@ -326,13 +328,21 @@ def topology(geom: Geometry) -> Topology:
     return Topology(geom, alloc - 1, reach)
 
 
-def cut(keys: np.ndarray, weight: np.ndarray, ranks: int) -> np.ndarray:
-    """Contiguous chunks of equal weight along the curve: a block goes to the chunk holding its
-    weight's midpoint. Returns the first key of each rank (cut keys, ascending)."""
+def cut(keys: np.ndarray, weight: np.ndarray, ranks: int, rule: str = "midpoint") -> np.ndarray:
+    """Contiguous chunks of equal weight along the curve. 'midpoint': a block goes to the chunk
+    holding its weight's midpoint; 'prefix': rank r starts at the first block with at least
+    ceil(W r / P) of the weight before it (the mpi helper's Decomposition::build). Either way a
+    rank is off the mean by less than one block. Returns the first key of each rank."""
     order = np.argsort(keys, kind="stable")
-    mid = np.cumsum(weight[order]) - 0.5 * weight[order]
-    rank = np.minimum((mid * ranks / weight.sum()).astype(np.int64), ranks - 1)
-    first = np.searchsorted(rank, np.arange(ranks))  # empty ranks get the next rank's start
+    if rule == "prefix":
+        before = np.cumsum(weight[order]) - weight[order]
+        target = np.ceil(weight.sum() * np.arange(ranks) / ranks)
+        first = np.searchsorted(before, target, side="left")
+        first[0] = 0
+    else:
+        mid = np.cumsum(weight[order]) - 0.5 * weight[order]
+        rank = np.minimum((mid * ranks / weight.sum()).astype(np.int64), ranks - 1)
+        first = np.searchsorted(rank, np.arange(ranks))  # empty ranks: the next rank's start
     starts = np.where(first < len(order), keys[order][np.minimum(first, len(order) - 1)],
                       np.iinfo(np.int64).max)
     starts[0] = np.iinfo(np.int64).min
@@ -386,7 +396,7 @@ def halo(top: Topology, owner_occ: np.ndarray, ranks: int, owner_alloc=None) -> 
     return Halo(ranks, parts, src, dst, nodes.astype(np.int64), extra)
 
 
-def decompose(top: Topology, ranks: int, curve: str, starts=None):
+def decompose(top: Topology, ranks: int, curve: str, starts=None, rule: str = "midpoint"):
     """Owner of each occupied block for `ranks` ranks; with `starts` (cut keys of an earlier
     state) the ranks keep their key intervals (no rebalancing)."""
     if curve not in top.keys:
@@ -397,7 +407,7 @@ def decompose(top: Topology, ranks: int, curve: str, starts=None):
                            sfc_key(top.alloc, curve, bits))
     keys = top.keys[curve][0]
     if starts is None:
-        starts = cut(keys, top.geom.weight, ranks)
+        starts = cut(keys, top.geom.weight, ranks, rule)
     return owners_from_cuts(keys, starts), starts
 
 
@@ -635,6 +645,7 @@ def main(argv=None):
         g = asteroid_initial(cell)
         scene_tops[cell] = topology(g)
         md.append(f"| {cell:.0f} | {g.particles:,.0f} | {len(g.weight):,} |")
+    md.append(small_runs_table(scene_tops, prm))
 
     # Strong scaling at args.points.
     cell = cell_for_points(args.points)
@@ -804,6 +815,26 @@ def main(argv=None):
                         r.messages_max, f"{r.neighbours_mean:.2f}", r.neighbours_max,
                         f"{r.t_compute:.6g}", f"{r.t_comm:.6g}", f"{r.t_step:.6g}", f"{eff:.4f}"])
     plot(args.out, ranks, g, strong, scene_strong, weak, fast_rows, hyb_rows, debris)
+
+
+def small_runs_table(tops: dict, prm: Params) -> str:
+    """What `mpirun -np 1..4 shatter run scenes/asteroid-collision.toml` should exchange, with
+    the mpi helper's choices (Morton, interval rule), for comparison with docs/mpi.md."""
+    out = ["\n## The scene on 1-4 ranks (Morton, prefix cut, interval rule: the mpi helper's "
+           "choices)\n",
+           "| cell (m) | P | halo nodes (all pairs) | P2G scatter bytes/step | all halo phases "
+           "bytes/step | messages/step (all ranks, halo phases) | particles per rank (min-max) |",
+           "|---:|---:|---:|---:|---:|---:|---:|"]
+    for cell, top in tops.items():
+        for p in (1, 2, 3, 4):
+            own, starts = decompose(top, p, "morton", rule="prefix")
+            h = halo(top, own, p, alloc_owner_by_interval(top, "morton", starts))
+            nodes = int(h.pair_nodes.sum())
+            d = prm.phase_doubles
+            out.append(f"| {cell:.0f} | {p} | {nodes:,} | {nodes * d[0] * 8:,} | "
+                       f"{nodes * sum(d) * 8:,} | {4 * len(h.pair_src)} | "
+                       f"{h.particles.min():,.0f}-{h.particles.max():,.0f} |")
+    return "\n".join(out)
 
 
 def drift_table(run: Path, points: float, cell: float, prm: Params, ps) -> str:

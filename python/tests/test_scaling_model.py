@@ -67,11 +67,12 @@ def test_point_counts_match_the_engine(cell, target, projectile):
     assert (wt.sum(), wp.sum()) == (target, projectile)
 
 
-def test_equal_weight_cut_is_within_one_block():
+@pytest.mark.parametrize("rule", ["midpoint", "prefix"])
+def test_equal_weight_cut_is_within_one_block(rule):
     g = sm.asteroid_initial(500.0)
     top = sm.topology(g)
     for ranks in (5, 64):
-        own, _ = sm.decompose(top, ranks, "morton")
+        own, _ = sm.decompose(top, ranks, "morton", rule=rule)
         per = np.bincount(own, weights=g.weight, minlength=ranks)
         assert per.sum() == g.particles
         assert np.max(np.abs(per - g.particles / ranks)) <= g.weight.max()
