@@ -7,7 +7,7 @@ Usage:
   docs/figures/asteroid/summarise_runs.py RUN1 RUN2 ... --target-mass M --times 5.638 10 15 \\
       | tools/ensemble_stats.py [--columns "largest m/M" "failure 15 s" ...]
 
-Reads the first markdown table on stdin (header row, separator row, one row per run). A cell is
+Reads the markdown table on stdin (header row, an optional separator row, one row per run). A cell is
 numeric if it starts with a number (a trailing unit or % is kept for the output format); '-',
 'nan' or text cells are left out of that column's statistics and counted. Prints one line per
 column: name, n, mean ± std (min-max). Standard deviations are sample ones (ddof = 1)."""
@@ -26,11 +26,12 @@ def main():
     ap.add_argument("--columns", nargs="+", help="only these columns (header text)")
     args = ap.parse_args()
     rows = [line.strip() for line in sys.stdin if line.strip().startswith("|")]
-    if len(rows) < 3:
+    if len(rows) < 2:
         sys.exit("ensemble_stats: no markdown table with at least one row on stdin")
     split = lambda line: [c.strip() for c in line.strip("|").split("|")]  # noqa: E731
     header = split(rows[0])
-    body = [split(r) for r in rows[2:]]
+    # The separator row (|---|---|) is optional: summarise_runs.py prints none.
+    body = [split(r) for r in rows[1:] if not re.fullmatch(r"[|:\-\s]+", r)]
     for j, name in enumerate(header):
         if args.columns and name not in args.columns:
             continue
