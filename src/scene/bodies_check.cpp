@@ -4,10 +4,25 @@
 
 namespace shatter::scene {
 
+void check_lattice_rotation(const Scene& scene, const BodySpec& b) {
+  if (scene.symmetry_axis < 0) return;
+  // The half model keeps the points on one side of the plane, and their mirror images must be the
+  // dropped ones: the lattice may only turn about the plane's normal.
+  const Vec3 n = Vec3::Unit(scene.symmetry_axis);
+  if ((b.lattice_rotation * n - n).norm() > 1e-12) {
+    const char axis = "xyz"[scene.symmetry_axis];
+    throw SceneError(b.where, "body." + b.name + ".lattice_rotation",
+                     fmt::format("with the symmetry plane normal to {} the lattice may only turn "
+                                 "about {} (give only the {} angle)",
+                                 axis, axis, axis));
+  }
+}
+
 void fill_and_check_bodies(Scene& scene) {
   const Domain& d = scene.solver.domain;
   for (BodySpec& b : scene.bodies) {
-    b.fill = fill_lattice(b.shape, b.spacing, scene.symmetry_axis);
+    check_lattice_rotation(scene, b);
+    b.fill = fill_lattice(b.shape, b.spacing, scene.symmetry_axis, b.lattice_rotation);
     if (b.fill.points.empty()) {
       throw SceneError(b.where, "body." + b.name,
                        scene.symmetry_axis >= 0

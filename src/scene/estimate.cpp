@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "scene/parts.hpp"
 #include "shatter/scene/build.hpp"
 
 namespace shatter::scene {
@@ -53,7 +54,9 @@ std::vector<BodyEstimate> count_and_check_points(const Scene& scene) {
   const Domain& d = scene.solver.domain;
   std::vector<BodyEstimate> out;
   for (const BodySpec& b : scene.bodies) {
-    const LatticeCount c = count_lattice(b.shape, b.spacing, scene.symmetry_axis);
+    check_lattice_rotation(scene, b);
+    const LatticeCount c =
+        count_lattice(b.shape, b.spacing, scene.symmetry_axis, b.lattice_rotation);
     if (c.points == 0) {
       throw SceneError(b.where, "body." + b.name, "has no points: smaller than its spacing");
     }
@@ -73,10 +76,12 @@ std::vector<BodyEstimate> count_and_check_points(const Scene& scene) {
       const BodySpec& b = scene.bodies[j];
       if (!a.shape.bounds().intersects(b.shape.bounds())) continue;
       std::size_t inside = 0;
-      for_each_lattice_point(b.shape, b.spacing, scene.symmetry_axis,
-                             [&](const Vec3& p) { inside += a.shape.contains(p) ? 1 : 0; });
-      for_each_lattice_point(a.shape, a.spacing, scene.symmetry_axis,
-                             [&](const Vec3& p) { inside += b.shape.contains(p) ? 1 : 0; });
+      for_each_lattice_point(
+          b.shape, b.spacing, scene.symmetry_axis,
+          [&](const Vec3& p) { inside += a.shape.contains(p) ? 1 : 0; }, b.lattice_rotation);
+      for_each_lattice_point(
+          a.shape, a.spacing, scene.symmetry_axis,
+          [&](const Vec3& p) { inside += b.shape.contains(p) ? 1 : 0; }, a.lattice_rotation);
       if (inside > 0) {
         throw SceneError(
             b.where, "body." + b.name,

@@ -16,8 +16,9 @@ namespace {
 
 const std::vector<std::string> kShapeKinds = {"sphere",   "ellipsoid", "box",
                                               "cylinder", "mesh",      "union"};
-const std::vector<std::string> kBodyKeys = {"shape",           "material", "velocity", "spacing",
-                                            "points_per_cell", "energy",   "mass",     "damage"};
+const std::vector<std::string> kBodyKeys = {"shape",   "material",        "velocity",
+                                            "spacing", "points_per_cell", "energy",
+                                            "mass",    "damage",          "lattice_rotation"};
 const std::vector<std::string> kMaterialModelKeys = {"eos", "strength"};
 
 std::vector<std::string> shape_keys(const std::string& kind) {
@@ -43,6 +44,18 @@ double size(Reader& r, std::string_view key, double v) {
   return r.within(key, v, ranges::kMinLength, ranges::kMaxLength, "m", ranges::kLengthReason);
 }
 
+// Rotations about x, then y, then z by the angles (degrees, fixed axes) of a `rotation`-like key,
+// checked to lie within a full turn.
+Eigen::Matrix3d read_rotation(Reader& r, std::string_view key) {
+  const Vec3 angles = r.vec3(key, Vec3::Zero());
+  r.within(key, angles.cwiseAbs().maxCoeff(), 0.0, 360.0, "degrees (|angle|)", "a full turn");
+  const double deg = std::numbers::pi / 180.0;
+  return (Eigen::AngleAxisd(angles.z() * deg, Vec3::UnitZ()) *
+          Eigen::AngleAxisd(angles.y() * deg, Vec3::UnitY()) *
+          Eigen::AngleAxisd(angles.x() * deg, Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
 // A closed triangle mesh (OBJ or STL) scaled, rotated and placed: x' = position + R (scale x),
 // with R the rotations about x, then y, then z by the angles in `rotation` (degrees, fixed axes).
 Mesh read_mesh_shape(Reader& r, const std::filesystem::path& base_dir) {
@@ -50,9 +63,7 @@ Mesh read_mesh_shape(Reader& r, const std::filesystem::path& base_dir) {
       std::filesystem::absolute(base_dir / std::filesystem::path(r.string("file")));
   const double scale = r.positive("scale", r.number("scale", 1.0));
   r.note_range("scale", "", "m per mesh unit");
-  const Vec3 angles = r.vec3("rotation", Vec3::Zero());
-  r.within("rotation", angles.cwiseAbs().maxCoeff(), 0.0, 360.0, "degrees (|angle|)",
-           "a full turn");
+  const Eigen::Matrix3d rotation = read_rotation(r, "rotation");
   const Vec3 shift = r.vec3("position", Vec3::Zero());
   r.within("position", shift.cwiseAbs().maxCoeff(), 0.0, ranges::kMaxCoordinate, "m (|coordinate|)",
            ranges::kCoordinateReason);
@@ -67,11 +78,6 @@ Mesh read_mesh_shape(Reader& r, const std::filesystem::path& base_dir) {
   } catch (const std::invalid_argument& e) {
     r.fail("file", fmt::format("{}: {}", file.string(), e.what()));
   }
-  const double deg = std::numbers::pi / 180.0;
-  const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(angles.z() * deg, Vec3::UnitZ()) *
-                                    Eigen::AngleAxisd(angles.y() * deg, Vec3::UnitY()) *
-                                    Eigen::AngleAxisd(angles.x() * deg, Vec3::UnitX()))
-                                       .toRotationMatrix();
   for (Vec3& v : mesh.vertices) v = shift + rotation * (scale * v);
   // Absolute in the resolved scene, so a resumed run finds the file from anywhere.
   r.table().insert_or_assign("file", file.string());
@@ -239,6 +245,14 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
     if (ppc < 1) r.fail("points_per_cell", fmt::format("must be >= 1 (got {})", ppc));
     b.spacing = scene.solver.cell_size / static_cast<double>(ppc);
   }
+  // The point lattice turned off the grid's axes about the origin (MPM paper Sec. 4.1.1 aligns
+  // it; docs/validation-lab-impact.md, "Grid imprinting": an aligned lattice prints cracks along
+  // the grid axes). A symmetry plane allows turns about its normal only (bodies_check.cpp).
+  r.note_range("lattice_rotation",
+               "about x, then y, then z (fixed axes), through the origin; with a symmetry plane "
+               "only its normal's angle",
+               "degrees");
+  b.lattice_rotation = read_rotation(r, "lattice_rotation");
   {
     // Refused before the lattice is filled: a spacing far below the body's size would take hours
     // and all memory to find out.
@@ -259,7 +273,8 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   r.note_range("mass", "", "kg");
   if (auto mass = r.optional_number("mass")) {
     r.positive("mass", *mass);
-    const double v = b.shape.exact_volume().value_or(fill_lattice(b.shape, b.spacing).volume);
+    const double v = b.shape.exact_volume().value_or(
+        fill_lattice(b.shape, b.spacing, -1, b.lattice_rotation).volume);
     b.material.params["rho0"] = *mass / v;
   }
   try {

@@ -38,6 +38,9 @@ BodySpec read_body(Reader& body, const std::string& name, const Scene& scene,
 // Places the projectile against the target (MPM paper Fig. 4) and fills it with points.
 void apply_impact(const ImpactInput& in, Scene& scene);
 
+// Refuses a lattice rotation that a symmetry plane does not allow (a turn not about its normal).
+void check_lattice_rotation(const Scene& scene, const BodySpec& b);
+
 // Fills every body with points and checks them against each other and the domain.
 void fill_and_check_bodies(Scene& scene);
 

@@ -7,6 +7,8 @@
 #include <limits>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "shatter/scene/shapes.hpp"
 
 namespace shatter::scene {
@@ -16,12 +18,16 @@ struct LatticeFill {
   double volume = 0.0;  // volume of shape ∩ kept half-space, measured on the lattice cells
 };
 
-// Points at ((i + 1/2) s, (j + 1/2) s, (k + 1/2) s) that lie inside `shape`, x fastest. With
-// `clip_axis` in {0, 1, 2}, only points with a positive coordinate on that axis are kept (the
-// half model of a symmetry plane through the origin; the plane is a lattice-cell face, so the
-// mirror image of the kept points is exactly the dropped ones). The volume is the sum over
-// lattice cells of the fraction inside the shape, sub-sampled where a cell straddles its surface.
-LatticeFill fill_lattice(const Shape& shape, double spacing, int clip_axis = -1);
+// Points at R ((i + 1/2) s, (j + 1/2) s, (k + 1/2) s) that lie inside `shape`, x fastest, with R
+// the body's lattice rotation about the origin (`lattice_rotation`; the identity by default, the
+// MPM paper's lattice aligned with the grid, Sec. 4.1.1). With `clip_axis` in {0, 1, 2}, only
+// points with a positive coordinate on that axis are kept (the half model of a symmetry plane
+// through the origin; the plane is a lattice-cell face, so the mirror image of the kept points is
+// exactly the dropped ones; R must then turn about that axis only, which the scene checks). The
+// volume is the sum over lattice cells of the fraction inside the shape, sub-sampled where a cell
+// straddles its surface.
+LatticeFill fill_lattice(const Shape& shape, double spacing, int clip_axis = -1,
+                         const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity());
 
 // The points fill_lattice would create, counted without storing them (`shatter check`): their
 // number and the bounds of their positions. Same inside test, so the count is the same.
@@ -30,10 +36,12 @@ struct LatticeCount {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
 };
-LatticeCount count_lattice(const Shape& shape, double spacing, int clip_axis = -1);
+LatticeCount count_lattice(const Shape& shape, double spacing, int clip_axis = -1,
+                           const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity());
 
 // Calls visit(point) for every point fill_lattice would create, in the same order.
 void for_each_lattice_point(const Shape& shape, double spacing, int clip_axis,
-                            const std::function<void(const Vec3&)>& visit);
+                            const std::function<void(const Vec3&)>& visit,
+                            const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity());
 
 }  // namespace shatter::scene

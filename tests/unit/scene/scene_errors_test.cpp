@@ -192,5 +192,14 @@ TEST(SceneErrors, BodyTooSmallForItsSpacingHasNoPoints) {
   EXPECT_NE(error_of(text).find("has no points"), std::string::npos);
 }
 
+TEST(SceneErrors, LatticeTurnedOutOfTheSymmetryPlaneIsRefused) {
+  // The tiny scene's half model (symmetry plane z): a turn about x would move points across it.
+  const std::string text =
+      with("radius = 0.01", "radius = 0.01\nlattice_rotation = [10.0, 0.0, 0.0]");
+  const std::string msg = error_of(text);
+  EXPECT_NE(msg.find("body.target.lattice_rotation"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("may only turn about z"), std::string::npos) << msg;
+}
+
 }  // namespace
 }  // namespace shatter::scene
