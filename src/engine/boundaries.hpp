@@ -4,9 +4,11 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "shatter/engine/config.hpp"
 #include "shatter/grid/sparse_grid.hpp"
+#include "shatter/parallel/exact_sum.hpp"
 
 namespace shatter::engine {
 
@@ -34,11 +36,18 @@ class Boundaries {
   // Steps 2-4: gravity, constraints on momentum and force, P^{n+1/2} = P^{n-1/2} + F dt^n
   // (Eq. 27). Leaves the nodal acceleration F/M in f* and velocity P^{n+1/2}/M in p*. Returns the
   // kinetic energy the constraints removed.
-  double integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass) const;
+  // The kinetic energy the constraints removed is summed exactly (parallel::ExactSum), so it does
+  // not depend on the block order; `counted` (one flag per block), when given, limits the sum
+  // to the blocks this rank owns (ghost blocks hold copies of other ranks' nodes).
+  // `exact`, when given, also receives the exact sum (to be combined across ranks).
+  double integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass,
+                   const std::vector<std::uint8_t>* counted = nullptr,
+                   parallel::ExactSum* exact = nullptr) const;
 
   // Steps 6-7: constraints on the remapped momentum, then v_I = P_I / M_I in p*. Returns the
   // nodal kinetic energy the constraints removed (a diagnostic: no particle velocity changes).
-  double velocities(SparseGrid& grid, double empty_mass) const;
+  double velocities(SparseGrid& grid, double empty_mass,
+                    const std::vector<std::uint8_t>* counted = nullptr) const;
 
   bool constrained() const { return count_ > 0; }
   // Zeroes the constrained components of (x, y, z) at global node `node` (steps 2-3).
