@@ -52,8 +52,39 @@ std::uint64_t morton(std::uint64_t k) {
   return spread(k >> 42) << 2 | spread(k >> 21) << 1 | spread(k);
 }
 
+namespace {
+constexpr std::int64_t kOff = std::int64_t{1} << 20;
+constexpr std::uint64_t kMask = (std::uint64_t{1} << 21) - 1;
+std::int64_t coord(std::uint64_t k, int axis) {
+  return static_cast<std::int64_t>((k >> (42 - 21 * axis)) & kMask) - kOff;
+}
+std::int64_t floor_div4(std::int64_t v) {
+  return v >= 0 ? v / 4 : -((-v + 3) / 4);
+}
+bool reaches(std::int64_t b, std::int64_t plane) {
+  return 4 * b + 3 >= plane - 3 && 4 * b <= plane + 3;
+}
+}  // namespace
+
+std::uint64_t Decomposition::placed(std::uint64_t k) const {
+  if (planes_.empty()) return k;
+  std::int64_t c[3] = {coord(k, 0), coord(k, 1), coord(k, 2)};
+  for (const auto& [axis, index] : planes_) {
+    if (reaches(c[axis], index)) c[axis] = floor_div4(index);
+  }
+  return (static_cast<std::uint64_t>(c[0] + kOff) << 42) |
+         (static_cast<std::uint64_t>(c[1] + kOff) << 21) | static_cast<std::uint64_t>(c[2] + kOff);
+}
+
+bool Decomposition::near_plane(std::uint64_t k) const {
+  for (const auto& [axis, index] : planes_) {
+    if (reaches(coord(k, axis), index)) return true;
+  }
+  return false;
+}
+
 void Decomposition::build(std::vector<std::pair<std::uint64_t, std::int64_t>> weights, int ranks) {
-  for (auto& w : weights) w.first = morton(w.first);
+  for (auto& w : weights) w.first = morton(placed(w.first));
   std::sort(weights.begin(), weights.end());
   std::int64_t total = 0;
   for (const auto& w : weights) total += w.second;
@@ -72,7 +103,7 @@ void Decomposition::build(std::vector<std::pair<std::uint64_t, std::int64_t>> we
 }
 
 int Decomposition::rank_of(std::uint64_t block_key) const {
-  const std::uint64_t m = morton(block_key);
+  const std::uint64_t m = morton(placed(block_key));
   const auto it = std::upper_bound(cuts_.begin(), cuts_.end(), m);
   return static_cast<int>(it - cuts_.begin()) - 1;
 }

@@ -50,6 +50,14 @@ parallel::ExactSum exact_sum(std::size_t n, F&& term) {
       });
 }
 
+SparseGrid::Coord decode_key(std::uint64_t k) {
+  constexpr std::int64_t off = std::int64_t{1} << 20;
+  constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
+  return {static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 42) & mask) - off),
+          static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 21) & mask) - off),
+          static_cast<std::int32_t>(static_cast<std::int64_t>(k & mask) - off)};
+}
+
 // Node arrays a halo exchange carries: the force-carrying P2G (step 1) or momentum only (the
 // MUSL remap and the XPIC passes).
 constexpr int kForceFields = 7;
@@ -249,6 +257,7 @@ struct Simulation::Impl {
   void halo_zero(int colour, int fields);
   void halo_capture(int colour, int fields);
   void halo_reduce(int fields);
+  bool decomp_planes_empty() const;
   void finish_step();
   double global(parallel::ExactSum s) const;
 };
@@ -357,15 +366,15 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
           "solver: contact 'multi_field' is not supported on more than one MPI rank yet (body "
           "copies would need the meetings of every rank); run it on one rank");
     }
-    for (std::size_t f = 0; f < 6; ++f) {
-      const BoundaryKind k = config_.domain.faces[f];
-      if (k == BoundaryKind::symmetry || k == BoundaryKind::fixed) {
-        throw std::invalid_argument(fmt::format(
-            "solver: a '{}' face is not supported on more than one MPI rank yet (its ghost nodes "
-            "fold onto partners another rank may hold); run it on one rank",
-            name_of(k)));
+    // Symmetry and fixed faces: ghost nodes and their partners get one owner, who mirrors them
+    // (halo_reduce).
+    std::vector<std::pair<int, std::int64_t>> planes;
+    for (const auto& pl : impl_->boundaries.planes()) {
+      if (pl.kind == BoundaryKind::symmetry || pl.kind == BoundaryKind::fixed) {
+        planes.emplace_back(pl.axis, pl.index);
       }
     }
+    impl_->decomp.set_planes(std::move(planes));
     impl_->rebalance_every =
         static_cast<unsigned>(std::max(1.0, env_double("SHATTER_MPI_REBALANCE_EVERY", 10.0)));
     impl_->imbalance = env_double("SHATTER_MPI_IMBALANCE", 1.2);
@@ -779,7 +788,8 @@ void Simulation::Impl::p2g_bodies(const kernels::P2GParticles& in, bool with_for
 void Simulation::Impl::grid_update() {
   const Clock& clk = sim.clock_;
   const double dt_kick = 0.5 * (clk.dt_prev + dt_step);  // leapfrog dt^n (Fig. 16)
-  boundaries.mirror(grid, engine::Boundaries::kMassMomentumForce);
+  // (several ranks: the owners mirrored the halo blocks, halo_reduce)
+  if (!dist) boundaries.mirror(grid, engine::Boundaries::kMassMomentumForce);
   boundaries.integrate(grid, sim.config_.gravity, dt_kick, empty_mass, dist ? &halo.owned : nullptr,
                        &removed_sum);
   if (grid.has_copies()) {
@@ -873,7 +883,7 @@ void Simulation::Impl::xpic() {
                         }
                       });
     p2g<Shape>(false, w);
-    boundaries.mirror(grid, engine::Boundaries::kMomentum);
+    if (!dist) boundaries.mirror(grid, engine::Boundaries::kMomentum);
     boundaries.velocities(grid, empty_mass);
     const double ratio = static_cast<double>(m - k + 1) / static_cast<double>(k);
     const double sign = k % 2 == 0 ? -1.0 : 1.0;  // (-1)^{k+1}
@@ -945,7 +955,7 @@ void Simulation::Impl::remap() {
     std::copy(N.pz.begin() + static_cast<std::ptrdiff_t>(g0), N.pz.end(), at + 2 * n);
   }
   p2g<Shape>(false);
-  boundaries.mirror(grid, engine::Boundaries::kMomentum);
+  if (!dist) boundaries.mirror(grid, engine::Boundaries::kMomentum);
   // The remapped velocities only feed the strain rate (MUSL); no particle velocity changes here.
   boundaries.velocities(grid, empty_mass);
   if (contact_nodes) {
@@ -1313,7 +1323,8 @@ void Simulation::Impl::build_halo_plan() {
     const int owner = decomp.rank_of(k);
     halo.owned[b] = owner == me ? 1 : 0;
     // Owner blocks b - s (s in {0,1}^3) are the only ones whose stencils reach b.
-    bool remote = owner != me;
+    // Blocks near a symmetry or fixed plane always go through their owner, who mirrors them.
+    bool remote = owner != me || decomp.near_plane(k);
     std::int32_t slot[SparseGrid::kColours];
     std::fill(std::begin(slot), std::end(slot), -1);
     for (int sft = 0; sft < 8; ++sft) {
@@ -1341,6 +1352,13 @@ void Simulation::Impl::build_halo_plan() {
     }
   }
   halo.slots.resize(static_cast<std::size_t>(slots) * kForceFields * SparseGrid::kBlockNodes);
+}
+
+bool Simulation::Impl::decomp_planes_empty() const {
+  for (const auto& pl : boundaries.planes()) {
+    if (pl.kind == BoundaryKind::symmetry || pl.kind == BoundaryKind::fixed) return false;
+  }
+  return true;
 }
 
 void Simulation::Impl::halo_zero(int colour, int fields) {
@@ -1481,6 +1499,36 @@ void Simulation::Impl::halo_reduce(int fields) {
                         }
                       }
                     });
+  // 2b. symmetry and fixed planes, on the owner's complete sums (every block near a plane is a
+  // halo block, and a ghost and its partner have one owner: Decomposition::set_planes)
+  if (!decomp_planes_empty()) {
+    struct Blocks {
+      Impl& im;
+      std::vector<Target>& t;
+      std::unordered_map<std::uint64_t, std::size_t>& index;
+      std::vector<double>& temp;
+      int f0;
+      std::vector<SparseGrid::Coord> coords;
+      std::size_t size() const { return t.size(); }
+      SparseGrid::Coord coord(std::size_t i) const { return coords[i]; }
+      std::int64_t find(std::uint64_t k) const {
+        const auto it = index.find(k);
+        return it == index.end() ? -1 : static_cast<std::int64_t>(it->second);
+      }
+      double* field(std::size_t i, int f) {
+        const Target& tg = t[i];
+        if (tg.block >= 0) {
+          return node_fields(im.grid.nodes())[static_cast<std::size_t>(f)]->data() +
+                 static_cast<std::size_t>(tg.block) * SparseGrid::kBlockNodes;
+        }
+        return temp.data() + tg.temp + static_cast<std::size_t>(f - f0) * SparseGrid::kBlockNodes;
+      }
+    } blocks{*this, targets, index, temp, f0, {}};
+    blocks.coords.resize(targets.size());
+    for (const auto& [k, i] : index) blocks.coords[i] = decode_key(k);
+    boundaries.mirror_blocks(blocks, fields == kForceFields ? engine::Boundaries::kMassMomentumForce
+                                                            : engine::Boundaries::kMomentum);
+  }
   // 3. the sums back to the ranks that sent partials, in the order they sent them
   std::vector<parallel::Bytes> back(ranks), back_in(ranks);
   for (std::size_t q = 0; q < ranks; ++q) {

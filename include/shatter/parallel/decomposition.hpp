@@ -24,12 +24,21 @@ class Decomposition {
   // (in any order). Ranks past the particles get empty pieces.
   void build(std::vector<std::pair<std::uint64_t, std::int64_t>> weights, int ranks);
   int rank_of(std::uint64_t block_key) const;
+  // Symmetry and fixed planes (axis, node index): the blocks within a stencil's reach of a
+  // plane, on both sides, are placed as the block holding the plane, so a ghost node beyond it
+  // and its partner always have one owner (who folds and mirrors them: docs/mpi.md).
+  void set_planes(std::vector<std::pair<int, std::int64_t>> planes) { planes_ = std::move(planes); }
+  // The block whose place on the curve block_key takes (itself away from planes).
+  std::uint64_t placed(std::uint64_t block_key) const;
+  // Within a stencil's reach (3 nodes) of a plane.
+  bool near_plane(std::uint64_t block_key) const;
   bool built() const { return !cuts_.empty(); }
   // The first Morton code of each rank's piece.
   const std::vector<std::uint64_t>& cuts() const { return cuts_; }
 
  private:
   std::vector<std::uint64_t> cuts_;
+  std::vector<std::pair<int, std::int64_t>> planes_;
 };
 
 // Particle rows for a transfer: the group index and every registered column of the listed
