@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -15,6 +16,7 @@
 #include "fragments_report.hpp"
 #include "progress.hpp"
 #include "progress_guard.hpp"
+#include "shatter/engine/simulation.hpp"
 #include "shatter/io/columns.hpp"
 #include "shatter/io/snapshot.hpp"
 #include "shatter/io/timeseries.hpp"
@@ -94,6 +96,7 @@ class Runner {
   }
 
   int run() {
+    steps_at_start_ = sim_.clock().step;
     // On several ranks (docs/mpi.md) every rank steps and takes part in the gathers; rank 0
     // alone writes the files, which look like a single process's (rows sorted by particle id).
     if (root_) std::filesystem::create_directories(snapshot_dir(spec_.out));
@@ -186,6 +189,7 @@ class Runner {
     const double wall = seconds_since_start();
     spdlog::info("finished: t = {}, {} steps, {:.1f} s wall, energy error {:.3e}",
                  format_time(sim_.time()), sim_.clock().step, wall, sim_.energy().error());
+    report_parallel();
     if (scene_.output.fragments && sim_.particles().has(Field::damage)) {
       FragmentReportInfo info{sim_.time(), {}, {}, false};
       for (const auto& b : scene_.bodies) {
@@ -204,6 +208,39 @@ class Runner {
 
   // An output time that misses the end time by round-off (5 x 1e-6 != 5e-6) is the end time;
   // otherwise the run would take a sliver step and write the end state twice.
+  // On several ranks (or with SHATTER_STAGE_TIMES set): the exchange traffic summed over the
+  // ranks and each stage's time, the slowest rank's (docs/mpi.md takes its figures from these).
+  void report_parallel() {
+    const auto* mpm = dynamic_cast<const Simulation*>(&sim_);
+    if (mpm == nullptr || (!dist_ && std::getenv("SHATTER_STAGE_TIMES") == nullptr)) return;
+    const parallel::Traffic h = mpm->halo_traffic(), m = mpm->migrate_traffic();
+    std::int64_t t[4] = {static_cast<std::int64_t>(h.bytes), static_cast<std::int64_t>(h.messages),
+                         static_cast<std::int64_t>(m.bytes), static_cast<std::int64_t>(m.messages)};
+    comm_.sum(t);
+    const auto steps =
+        static_cast<double>(std::max<std::uint64_t>(1, sim_.clock().step - steps_at_start_));
+    std::vector<double> times;
+    for (const auto& st : sim_.stage_timings()) times.push_back(st.seconds);
+    times.push_back(h.seconds);
+    times.push_back(m.seconds);
+    comm_.max(times);
+    spdlog::info(
+        "mpi: {} ranks, {} steps; halo {:.0f} bytes and {:.1f} messages per step (all ranks), "
+        "migration {:.0f} bytes and {:.2f} messages per step, {} recuts",
+        comm_.size(), sim_.clock().step - steps_at_start_, static_cast<double>(t[0]) / steps,
+        static_cast<double>(t[1]) / steps, static_cast<double>(t[2]) / steps,
+        static_cast<double>(t[3]) / steps, mpm->rebalances());
+    std::string line;
+    const auto& st = sim_.stage_timings();
+    for (std::size_t i = 0; i < st.size(); ++i) {
+      line += fmt::format(" {} {:.3g}", st[i].name, 1e3 * times[i] / steps);
+    }
+    spdlog::info(
+        "stage ms per step (slowest rank):{}; of which in exchanges: halo {:.3g}, "
+        "migration {:.3g}",
+        line, 1e3 * times[st.size()] / steps, 1e3 * times[st.size() + 1] / steps);
+  }
+
   double on_end(double t, double cadence) const {
     return std::abs(t - scene_.end_time) <= 1e-9 * cadence ? scene_.end_time : t;
   }
@@ -395,6 +432,7 @@ class Runner {
   const bool root_ = parallel::world().rank() == 0;
   const bool dist_ = parallel::world().distributed();
   double last_failure_ratio_ = 0.0;
+  std::uint64_t steps_at_start_ = 0;
   ParticleStore gathered_;
 };
 
