@@ -37,7 +37,7 @@ impact=("$src/scenes/lab-impact-coarse.toml" --set solver.cell_size=4e-3
 case $case_name in
   elastic_bar)
     # axially vibrating bar: a fixed face (odd mirror at the owner), slip sides; 30 steps
-    run_all bar "$src/scenes/verification/vibrating-bar.toml" 2 3 4 -- \
+    run_all bar "$src/scenes/verification/vibrating-bar.toml" 2 4 -- \
       --set solver.end_time=0.7 --set output.snapshot_every=0
     ;;
   colliding_spheres)
@@ -45,6 +45,14 @@ case $case_name in
     run_all spheres "$src/scenes/verification/colliding-spheres.toml" 2 3 4 -- \
       --set solver.end_time=0.25 --set output.snapshot_every=0 \
       --set 'body.a.velocity=[1.0, 1.0, 1.0]' --set 'body.b.velocity=[-1.0, -1.0, -1.0]'
+    ;;
+  transfers)
+    # XPIC(2) (extra scatter passes, each exchanged) on 3 ranks and APIC on 2
+    spheres=(--set solver.end_time=0.25 --set output.snapshot_every=0
+             --set 'body.a.velocity=[1.0, 1.0, 1.0]' --set 'body.b.velocity=[-1.0, -1.0, -1.0]')
+    run_all xpic "$src/scenes/verification/colliding-spheres-xpic.toml" 3 -- "${spheres[@]}"
+    run_all apic "$src/scenes/verification/colliding-spheres.toml" 2 -- "${spheres[@]}" \
+      --set solver.transfer=apic
     ;;
   impact_damage)
     # lab impact (basalt, Grady-Kipp damage, Tillotson, symmetry plane z = 0) at 4 mm, 40 steps:
