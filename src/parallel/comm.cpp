@@ -1,6 +1,7 @@
 #include "shatter/parallel/comm.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 
@@ -73,6 +74,16 @@ void init(int* argc, char*** argv) {
 #else
   (void)argc;
   (void)argv;
+  // Started by mpirun on several ranks without the MPI path: every rank would run the whole
+  // scene into the same directory.
+  const char* n = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (n == nullptr) n = std::getenv("PMI_SIZE");
+  if (n != nullptr && std::atoi(n) > 1) {
+    std::fputs("shatter was built without MPI (SHATTER_MPI=OFF or no MPI found): run it without "
+               "mpirun, or rebuild with MPI (docs/mpi.md)\n",
+               stderr);
+    std::exit(2);
+  }
 #endif
 }
 
