@@ -11,6 +11,8 @@ packages=(
   libbenchmark-dev libgtest-dev libgmock-dev
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   python3 python3-numpy python3-matplotlib python3-h5py
+  # MPI domain decomposition (docs/mpi.md): `mpirun -np N shatter run SCENE`
+  libopenmpi-dev openmpi-bin
 )
 test_packages=(
   # tests of the Python package (python/tests): pytest, and ParaView 5.11's own Xdmf3 reader for

@@ -58,8 +58,10 @@ inline xsimd::batch<double, A> vmin(const xsimd::batch<double, A>& a,
 inline double vsqrt(double a) {
   return std::sqrt(a);
 }
+// The SIMD lanes' exp (xsimd), so the scalar tail gives a particle the bits a batch would: the
+// tail's members depend on store positions, which differ between rank counts (docs/mpi.md).
 inline double vexp(double a) {
-  return std::exp(a);
+  return xsimd::exp(xsimd::batch<double>(a)).get(0);
 }
 inline double vabs(double a) {
   return std::fabs(a);

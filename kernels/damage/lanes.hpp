@@ -33,11 +33,22 @@ inline xsimd::batch<double, A> select(const xsimd::batch_bool<double, A>& cond,
 // log and cbrt. xsimd 8.1's AVX-512BW log and cbrt do not compile without optimisation (GCC then
 // defines the masked blend intrinsics as macros, whose casts reject xsimd's integer batches), so
 // unoptimised (Debug, sanitizer) builds evaluate them lane by lane with libm.
+// Optimised builds evaluate the scalar tail with the SIMD lanes' own algorithm, so a particle
+// gets the same bits in a batch or in the tail: which particles form the tail depends on where
+// they sit in the store, which differs between rank counts (docs/mpi.md).
 inline double log(double x) {
+#if defined(__OPTIMIZE__)
+  return xsimd::log(xsimd::batch<double>(x)).get(0);
+#else
   return std::log(x);
+#endif
 }
 inline double cbrt(double x) {
+#if defined(__OPTIMIZE__)
+  return xsimd::cbrt(xsimd::batch<double>(x)).get(0);
+#else
   return std::cbrt(x);
+#endif
 }
 
 namespace detail {

@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "shatter/io/suggest.hpp"
+#include "shatter/parallel/comm.hpp"
 
 #ifndef SHATTER_VERSION
 #define SHATTER_VERSION "unknown"
@@ -20,18 +21,26 @@
 namespace {
 
 void setup_logging(bool quiet, const std::string& log_file) {
+  // On several ranks rank 0 logs as one process does; the others only their errors, each line
+  // naming the rank (docs/mpi.md).
+  const auto& world = shatter::parallel::world();
+  const bool other_rank = world.rank() != 0;
   std::vector<spdlog::sink_ptr> sinks;
   auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
-  console->set_level(quiet ? spdlog::level::warn : spdlog::level::info);
+  console->set_level(other_rank ? spdlog::level::err
+                     : quiet    ? spdlog::level::warn
+                                : spdlog::level::info);
   sinks.push_back(console);
-  if (!log_file.empty()) {
+  if (!log_file.empty() && !other_rank) {
     auto file = std::make_shared<spdlog::sinks::basic_file_sink_mt>(log_file, true);
     file->set_level(spdlog::level::debug);
     sinks.push_back(file);
   }
   auto logger = std::make_shared<spdlog::logger>("shatter", sinks.begin(), sinks.end());
   logger->set_level(spdlog::level::debug);
-  logger->set_pattern("[%H:%M:%S] %^%l%$ %v");
+  logger->set_pattern(world.distributed()
+                          ? fmt::format("[%H:%M:%S] [rank {}] %^%l%$ %v", world.rank())
+                          : std::string("[%H:%M:%S] %^%l%$ %v"));
   spdlog::set_default_logger(logger);
 }
 
@@ -56,7 +65,7 @@ std::string nearest_command(const std::string& word, const std::vector<std::stri
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int shatter_main(int argc, char** argv) {
   using namespace shatter::cli;
   CLI::App app{"shatter: MPM shock physics for hypervelocity impacts on rock and asteroids"};
   app.set_version_flag("--version", std::string("shatter ") + SHATTER_VERSION);
@@ -182,6 +191,13 @@ int main(int argc, char** argv) {
   setup_logging(quiet, log_file);
   if (!out_dir.empty()) run_options.out = out_dir;
 
+  const auto& world = shatter::parallel::world();
+  if (world.distributed() && !run->parsed() && !resume->parsed()) {
+    if (world.rank() == 0) {
+      spdlog::error("only 'run' and 'resume' run on several MPI ranks; start the others alone");
+    }
+    return kBadInput;
+  }
   try {
     if (run->parsed()) return run_command(scene_file, run_options);
     if (resume->parsed()) return resume_command(checkpoint, run_options);
@@ -209,7 +225,17 @@ int main(int argc, char** argv) {
     }
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
+    // One rank failed alone: it reports (the log line names the rank) and ends every rank,
+    // none left waiting in a collective for it.
+    if (world.distributed()) world.abort(kFailure);
     return kFailure;
   }
   return kOk;
+}
+
+int main(int argc, char** argv) {
+  shatter::parallel::init(&argc, &argv);
+  const int code = shatter_main(argc, argv);
+  shatter::parallel::finalize();
+  return code;
 }

@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "run_loop.hpp"
 #include "shatter/io/checkpoint.hpp"
+#include "shatter/parallel/comm.hpp"
 #include "shatter/scene/build.hpp"
 
 namespace shatter::cli {
@@ -87,6 +88,14 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
     spdlog::error("{}: {}", file.string(), e.what());
     return kBadInput;
   }
+  if (parallel::world().distributed() && sim->method() != "mpm") {
+    if (parallel::world().rank() == 0) {
+      spdlog::error("{}: method '{}' runs on one rank only (the MPI decomposition is MPM's)",
+                    file.string(), sim->method());
+    }
+    return kBadInput;
+  }
+  // On several ranks each rank takes its own particles' columns, matched by id.
   io::restore_columns(sim->particles(), c.particles);
   if (std::isnan(c.state.internal_next)) {
     sim->restore(c.state.clock, c.state.energy);  // format-1 checkpoint: summed again

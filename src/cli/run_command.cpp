@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "run_loop.hpp"
 #include "shatter/io/atomic_file.hpp"
+#include "shatter/parallel/comm.hpp"
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/estimate.hpp"
 
@@ -117,22 +118,40 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
     return kBadInput;
   }
   spdlog::info("method {}", sim->method());
+  if (parallel::world().distributed() && sim->method() != "mpm") {
+    if (parallel::world().rank() == 0) {
+      spdlog::error("{}: method '{}' runs on one rank only (the MPI decomposition is MPM's)",
+                    scene_file.string(), sim->method());
+    }
+    return kBadInput;
+  }
+  if (parallel::world().distributed()) {
+    spdlog::info("{} MPI ranks: grid blocks decomposed along a Morton curve (docs/mpi.md)",
+                 parallel::world().size());
+  }
 
   if (options.check) {
     spdlog::info("scene {} is valid: {} points, first time step {:.6g} s (--check: nothing run)",
                  scene_file.string(), s.particle_count(), sim->clock().dt);
     return kOk;
   }
+  // On several ranks rank 0 alone writes (docs/mpi.md); every rank has checked the directory
+  // above, before any could write, since the solver's set-up is collective.
+  const bool root = parallel::world().rank() == 0;
   try {
-    std::filesystem::create_directories(out);
+    if (root) std::filesystem::create_directories(out);
   } catch (const std::filesystem::filesystem_error& e) {
     spdlog::error("{} {}: cannot create the run directory ({})",
                   options.out ? "--out" : "output.directory", out.string(), e.code().message());
+    if (parallel::world().distributed()) parallel::world().abort(kBadInput);
     return kBadInput;
   }
-  if (options.overwrite) clear_run(out);
-  io::write_text_atomically(out / "scene.toml",
-                            resolved_header(scene_file, options.sets, s) + s.resolved);
+  if (options.overwrite && root) clear_run(out);
+  if (root) {
+    io::write_text_atomically(out / "scene.toml",
+                              resolved_header(scene_file, options.sets, s) + s.resolved);
+  }
+  parallel::world().barrier();
   spdlog::info("output in {}", out.string());
 
   RunSpec spec;

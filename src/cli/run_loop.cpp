@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -15,10 +16,13 @@
 #include "fragments_report.hpp"
 #include "progress.hpp"
 #include "progress_guard.hpp"
+#include "shatter/engine/simulation.hpp"
 #include "shatter/io/columns.hpp"
 #include "shatter/io/snapshot.hpp"
 #include "shatter/io/timeseries.hpp"
 #include "shatter/io/xdmf.hpp"
+#include "shatter/parallel/comm.hpp"
+#include "shatter/parallel/decomposition.hpp"
 
 #ifndef SHATTER_VERSION
 #define SHATTER_VERSION "unknown"
@@ -92,16 +96,19 @@ class Runner {
   }
 
   int run() {
-    std::filesystem::create_directories(snapshot_dir(spec_.out));
+    steps_at_start_ = sim_.clock().step;
+    // On several ranks (docs/mpi.md) every rank steps and takes part in the gathers; rank 0
+    // alone writes the files, which look like a single process's (rows sorted by particle id).
+    if (root_) std::filesystem::create_directories(snapshot_dir(spec_.out));
     if (spec_.resumed) {
-      timeseries_.emplace(spec_.out / "timeseries.csv", sim_.time());
+      if (root_) timeseries_.emplace(spec_.out / "timeseries.csv", sim_.time());
       std::vector<std::filesystem::path> snaps;
       for (const auto& e : std::filesystem::directory_iterator(snapshot_dir(spec_.out))) {
         if (e.path().extension() == ".h5" && e.path().stem().string().rfind("snapshot_", 0) == 0) {
           snaps.push_back(e.path());
         }
       }
-      series_.rebuild(snaps, sim_.time());
+      if (root_) series_.rebuild(snaps, sim_.time());
       // The checkpoint was written after the snapshot and the row of its own time, if any.
       last_snapshot_time_ = sim_.time();
       last_checkpoint_time_ = sim_.time();
@@ -117,7 +124,7 @@ class Runner {
             on_end(cursor_.next_checkpoint_time, scene_.output.checkpoint_every);
       }
     } else {
-      timeseries_.emplace(spec_.out / "timeseries.csv");
+      if (root_) timeseries_.emplace(spec_.out / "timeseries.csv");
       cursor_.next_snapshot = 0;
       cursor_.next_snapshot_time = 0.0;
       cursor_.next_checkpoint_time =
@@ -157,7 +164,10 @@ class Runner {
           write_row();
         }
         progress();
-        if (g_stop_signal != 0) throw Stopped{g_stop_signal};
+        int stop = g_stop_signal;
+        // every rank stops after the same step (mpirun forwards the signal to all of them)
+        if (dist_) stop = static_cast<int>(comm_.max(static_cast<double>(stop)));
+        if (stop != 0) throw Stopped{stop};
       }
       if (sim_.time() >= cursor_.next_snapshot_time) snapshot();
       if (sim_.time() >= cursor_.next_checkpoint_time) {
@@ -175,23 +185,62 @@ class Runner {
     write_row();
     cursor_.next_checkpoint_time = kNever;
     if (last_checkpoint_time_ != sim_.time()) checkpoint();
-    timeseries_->sync();
+    if (root_) timeseries_->sync();
     const double wall = seconds_since_start();
     spdlog::info("finished: t = {}, {} steps, {:.1f} s wall, energy error {:.3e}",
                  format_time(sim_.time()), sim_.clock().step, wall, sim_.energy().error());
+    report_parallel();
     if (scene_.output.fragments && sim_.particles().has(Field::damage)) {
       FragmentReportInfo info{sim_.time(), {}, {}, false};
       for (const auto& b : scene_.bodies) {
         info.body_names.push_back(b.name);
         info.body_materials.push_back(b.material.name);
       }
-      report_fragments(sim_.particles(), scene_.symmetry_axis, scene_.fracture.search,
-                       spec_.out / "fragments", info);
+      // On several ranks: the search runs on rank 0 over the gathered particles, so fragments
+      // that straddle rank boundaries are found whole (docs/mpi.md: its memory limit).
+      const ParticleStore& all = all_particles();
+      if (root_) {
+        report_fragments(all, scene_.symmetry_axis, scene_.fracture.search, spec_.out / "fragments",
+                         info);
+      }
     }
   }
 
   // An output time that misses the end time by round-off (5 x 1e-6 != 5e-6) is the end time;
   // otherwise the run would take a sliver step and write the end state twice.
+  // On several ranks (or with SHATTER_STAGE_TIMES set): the exchange traffic summed over the
+  // ranks and each stage's time, the slowest rank's (docs/mpi.md takes its figures from these).
+  void report_parallel() {
+    const auto* mpm = dynamic_cast<const Simulation*>(&sim_);
+    if (mpm == nullptr || (!dist_ && std::getenv("SHATTER_STAGE_TIMES") == nullptr)) return;
+    const parallel::Traffic h = mpm->halo_traffic(), m = mpm->migrate_traffic();
+    std::int64_t t[4] = {static_cast<std::int64_t>(h.bytes), static_cast<std::int64_t>(h.messages),
+                         static_cast<std::int64_t>(m.bytes), static_cast<std::int64_t>(m.messages)};
+    comm_.sum(t);
+    const auto steps =
+        static_cast<double>(std::max<std::uint64_t>(1, sim_.clock().step - steps_at_start_));
+    std::vector<double> times;
+    for (const auto& st : sim_.stage_timings()) times.push_back(st.seconds);
+    times.push_back(h.seconds);
+    times.push_back(m.seconds);
+    comm_.max(times);
+    spdlog::info(
+        "mpi: {} ranks, {} steps; halo {:.0f} bytes and {:.1f} messages per step (all ranks), "
+        "migration {:.0f} bytes and {:.2f} messages per step, {} recuts",
+        comm_.size(), sim_.clock().step - steps_at_start_, static_cast<double>(t[0]) / steps,
+        static_cast<double>(t[1]) / steps, static_cast<double>(t[2]) / steps,
+        static_cast<double>(t[3]) / steps, mpm->rebalances());
+    std::string line;
+    const auto& st = sim_.stage_timings();
+    for (std::size_t i = 0; i < st.size(); ++i) {
+      line += fmt::format(" {} {:.3g}", st[i].name, 1e3 * times[i] / steps);
+    }
+    spdlog::info(
+        "stage ms per step (slowest rank):{}; of which in exchanges: halo {:.3g}, "
+        "migration {:.3g}",
+        line, 1e3 * times[st.size()] / steps, 1e3 * times[st.size() + 1] / steps);
+  }
+
   double on_end(double t, double cadence) const {
     return std::abs(t - scene_.end_time) <= 1e-9 * cadence ? scene_.end_time : t;
   }
@@ -206,10 +255,13 @@ class Runner {
       options.body_names.push_back(b.name);
       options.material_names.push_back(b.material.name);
     }
-    io::write_snapshot(file, sim_.particles(),
-                       {sim_.time(), sim_.clock().step, SHATTER_VERSION, scene_.symmetry_axis},
-                       columns_, options);
-    series_.add(file);
+    const ParticleStore& all = all_particles();
+    if (root_) {
+      io::write_snapshot(file, all,
+                         {sim_.time(), sim_.clock().step, SHATTER_VERSION, scene_.symmetry_axis},
+                         columns_, options);
+      series_.add(file);
+    }
     last_snapshot_time_ = sim_.time();
     ++cursor_.next_snapshot;
     // Times from the index, not by accumulation, so they do not drift.
@@ -224,7 +276,7 @@ class Runner {
   void checkpoint() {
     // The rows the checkpoint covers reach the disk before it is committed: a crash right after
     // the commit must not lose them (a resume keeps the rows up to the checkpoint's time).
-    timeseries_->sync();
+    if (root_) timeseries_->sync();
     io::RunState state;
     state.clock = sim_.clock();
     state.energy = sim_.energy();
@@ -233,13 +285,22 @@ class Runner {
     state.cursor = cursor_;
     state.scene_text = scene_.resolved;
     state.program_version = SHATTER_VERSION;
-    io::write_checkpoint(checkpoint_path(spec_.out), sim_.particles(), state);
+    const ParticleStore& all = all_particles();
+    if (root_) io::write_checkpoint(checkpoint_path(spec_.out), all, state);
     last_checkpoint_time_ = sim_.time();
     spdlog::info("checkpoint at t = {} (step {})", format_time(sim_.time()), sim_.clock().step);
   }
 
   double failure_ratio() const {
+    if (dist_) return last_failure_ratio_;  // of the last row (progress() makes no collective)
     return io::failure_ratio(sim_.particles(), scene_.fracture.threshold, spec_.damaged);
+  }
+
+  // Every particle, on rank 0: the local store with one rank, a gather sorted by id otherwise.
+  const ParticleStore& all_particles() {
+    if (!dist_) return sim_.particles();
+    gathered_ = parallel::gather_particles(sim_.particles(), comm_);
+    return gathered_;
   }
 
   void write_row() {
@@ -251,10 +312,35 @@ class Runner {
     r.time = sim_.time();
     r.dt = sim_.clock().dt_prev;
     r.energy = sim_.energy();
-    r.momentum = io::total_momentum(sim_.particles());
-    r.failure_ratio = failure_ratio();
+    if (dist_) {
+      // exact sums over the ranks: the same bits as one process
+      auto p = io::momentum_sums(sim_.particles());
+      constexpr int L = parallel::ExactSum::kLimbs;
+      std::vector<std::int64_t> limbs(3 * L + 2);
+      for (int d = 0; d < 3; ++d) {
+        p[static_cast<std::size_t>(d)].normalise();
+        std::copy(p[static_cast<std::size_t>(d)].limbs().begin(),
+                  p[static_cast<std::size_t>(d)].limbs().end(), limbs.begin() + d * L);
+      }
+      const auto c = io::failure_counts(sim_.particles(), scene_.fracture.threshold, spec_.damaged);
+      limbs[3 * L] = c[0];
+      limbs[3 * L + 1] = c[1];
+      comm_.sum(limbs);
+      for (int d = 0; d < 3; ++d) {
+        std::copy(limbs.begin() + d * L, limbs.begin() + (d + 1) * L,
+                  p[static_cast<std::size_t>(d)].limbs().begin());
+      }
+      r.momentum = {p[0].value(), p[1].value(), p[2].value()};
+      last_failure_ratio_ = limbs[3 * L + 1] == 0 ? 0.0
+                                                  : static_cast<double>(limbs[3 * L]) /
+                                                        static_cast<double>(limbs[3 * L + 1]);
+      r.failure_ratio = last_failure_ratio_;
+    } else {
+      r.momentum = io::total_momentum(sim_.particles());
+      r.failure_ratio = failure_ratio();
+    }
     r.wall = seconds_since_start();
-    timeseries_->write(r);
+    if (root_) timeseries_->write(r);
   }
 
   void progress() {
@@ -287,7 +373,7 @@ class Runner {
     try {
       write_row();
       checkpoint();
-      timeseries_->sync();
+      if (root_) timeseries_->sync();
     } catch (const std::exception& w) {
       spdlog::error("could not write the checkpoint: {}", w.what());
       return 128 + sig;
@@ -304,15 +390,18 @@ class Runner {
     spdlog::error("numerical failure at step {} (t = {}), particle {}: {}", e.step(),
                   format_time(sim_.time()), e.particle(), e.what());
     try {
-      io::write_snapshot(file, sim_.particles(),
-                         {sim_.time(), e.step(), SHATTER_VERSION, scene_.symmetry_axis},
-                         io::all_columns(sim_.particles()));
-      spdlog::error("state written for post-mortem: {}", file.string());
+      const ParticleStore& all = all_particles();
+      if (root_) {
+        io::write_snapshot(file, all,
+                           {sim_.time(), e.step(), SHATTER_VERSION, scene_.symmetry_axis},
+                           io::all_columns(all));
+        spdlog::error("state written for post-mortem: {}", file.string());
+      }
     } catch (const std::exception& w) {
       spdlog::error("could not write the post-mortem snapshot: {}", w.what());
     }
     try {
-      timeseries_->sync();
+      if (root_) timeseries_->sync();
     } catch (const std::exception& w) {
       spdlog::error("{}", w.what());
     }
@@ -339,6 +428,12 @@ class Runner {
   double last_checkpoint_time_ = -1.0;
   std::uint64_t last_row_step_ = 0;
   bool rows_written_ = false;
+  const parallel::Comm& comm_ = parallel::world();
+  const bool root_ = parallel::world().rank() == 0;
+  const bool dist_ = parallel::world().distributed();
+  double last_failure_ratio_ = 0.0;
+  std::uint64_t steps_at_start_ = 0;
+  ParticleStore gathered_;
 };
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "engine/boundaries.hpp"
 
+#include "shatter/parallel/exact_sum.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -178,14 +180,17 @@ void Boundaries::mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const
   }
 }
 
-double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt,
-                             double empty_mass) const {
+double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass,
+                             const std::vector<std::uint8_t>* counted,
+                             parallel::ExactSum* exact) const {
   auto& N = grid.nodes();
   const bool constrained = count_ > 0;
-  return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(grid.blocks()), 16), 0.0,
-      [&](const tbb::blocked_range<std::uint32_t>& r, double removed) {
+  parallel::ExactSum total = tbb::parallel_reduce(
+      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(grid.blocks()), 16),
+      parallel::ExactSum{},
+      [&](const tbb::blocked_range<std::uint32_t>& r, parallel::ExactSum removed) {
         for (std::uint32_t b = r.begin(); b < r.end(); ++b) {
+          const bool count = counted == nullptr || (*counted)[b] != 0;
           const SparseGrid::Coord c = grid.coord(b);
           for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
             const std::size_t i =
@@ -206,7 +211,7 @@ double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt,
               const double before = px * px + py * py + pz * pz;
               constrain(g, px, py, pz);  // step 2
               constrain(g, fx, fy, fz);  // step 3
-              removed += 0.5 * (before - (px * px + py * py + pz * pz)) / M;
+              if (count) removed.add(0.5 * (before - (px * px + py * py + pz * pz)) / M);
             }
             px += fx * dt;  // step 4, Eq. 27
             py += fy * dt;
@@ -222,43 +227,55 @@ double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt,
         }
         return removed;
       },
-      std::plus<>());
+      [](parallel::ExactSum a, const parallel::ExactSum& b) {
+        a.add(b);
+        return a;
+      });
+  if (exact != nullptr) *exact = total;
+  return total.value();
 }
 
-double Boundaries::velocities(SparseGrid& grid, double empty_mass) const {
+double Boundaries::velocities(SparseGrid& grid, double empty_mass,
+                              const std::vector<std::uint8_t>* counted) const {
   auto& N = grid.nodes();
   const bool constrained = count_ > 0;
-  return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(grid.blocks()), 16), 0.0,
-      [&](const tbb::blocked_range<std::uint32_t>& r, double removed) {
-        for (std::uint32_t b = r.begin(); b < r.end(); ++b) {
-          const SparseGrid::Coord c = grid.coord(b);
-          for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
-            const std::size_t i =
-                std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
-            const double M = N.mass[i];
-            if (M <= empty_mass) {
-              N.px[i] = N.py[i] = N.pz[i] = 0.0;
-              continue;
-            }
-            double px = N.px[i], py = N.py[i], pz = N.pz[i];
-            if (constrained) {
-              const std::int64_t g[3] = {std::int64_t{c.x} * 4 + l / 16,
-                                         std::int64_t{c.y} * 4 + (l / 4) % 4,
-                                         std::int64_t{c.z} * 4 + l % 4};
-              const double before = px * px + py * py + pz * pz;
-              constrain(g, px, py, pz);
-              removed += 0.5 * (before - (px * px + py * py + pz * pz)) / M;
-            }
-            const double inv_m = 1.0 / M;
-            N.px[i] = px * inv_m;
-            N.py[i] = py * inv_m;
-            N.pz[i] = pz * inv_m;
-          }
-        }
-        return removed;
-      },
-      std::plus<>());
+  return tbb::parallel_reduce(
+             tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(grid.blocks()), 16),
+             parallel::ExactSum{},
+             [&](const tbb::blocked_range<std::uint32_t>& r, parallel::ExactSum removed) {
+               for (std::uint32_t b = r.begin(); b < r.end(); ++b) {
+                 const bool count = counted == nullptr || (*counted)[b] != 0;
+                 const SparseGrid::Coord c = grid.coord(b);
+                 for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
+                   const std::size_t i =
+                       std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
+                   const double M = N.mass[i];
+                   if (M <= empty_mass) {
+                     N.px[i] = N.py[i] = N.pz[i] = 0.0;
+                     continue;
+                   }
+                   double px = N.px[i], py = N.py[i], pz = N.pz[i];
+                   if (constrained) {
+                     const std::int64_t g[3] = {std::int64_t{c.x} * 4 + l / 16,
+                                                std::int64_t{c.y} * 4 + (l / 4) % 4,
+                                                std::int64_t{c.z} * 4 + l % 4};
+                     const double before = px * px + py * py + pz * pz;
+                     constrain(g, px, py, pz);
+                     if (count) removed.add(0.5 * (before - (px * px + py * py + pz * pz)) / M);
+                   }
+                   const double inv_m = 1.0 / M;
+                   N.px[i] = px * inv_m;
+                   N.py[i] = py * inv_m;
+                   N.pz[i] = pz * inv_m;
+                 }
+               }
+               return removed;
+             },
+             [](parallel::ExactSum a, const parallel::ExactSum& b) {
+               a.add(b);
+               return a;
+             })
+      .value();
 }
 
 }  // namespace shatter::engine

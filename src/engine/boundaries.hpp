@@ -3,10 +3,14 @@
 // (App. A.2 steps 2-4 and 6-7).
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include "shatter/engine/config.hpp"
 #include "shatter/grid/sparse_grid.hpp"
+#include "shatter/parallel/exact_sum.hpp"
 
 namespace shatter::engine {
 
@@ -34,27 +38,108 @@ class Boundaries {
   // Steps 2-4: gravity, constraints on momentum and force, P^{n+1/2} = P^{n-1/2} + F dt^n
   // (Eq. 27). Leaves the nodal acceleration F/M in f* and velocity P^{n+1/2}/M in p*. Returns the
   // kinetic energy the constraints removed.
-  double integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass) const;
+  // The kinetic energy the constraints removed is summed exactly (parallel::ExactSum), so it does
+  // not depend on the block order; `counted` (one flag per block), when given, limits the sum
+  // to the blocks this rank owns (ghost blocks hold copies of other ranks' nodes).
+  // `exact`, when given, also receives the exact sum (to be combined across ranks).
+  double integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass,
+                   const std::vector<std::uint8_t>* counted = nullptr,
+                   parallel::ExactSum* exact = nullptr) const;
 
   // Steps 6-7: constraints on the remapped momentum, then v_I = P_I / M_I in p*. Returns the
   // nodal kinetic energy the constraints removed (a diagnostic: no particle velocity changes).
-  double velocities(SparseGrid& grid, double empty_mass) const;
+  double velocities(SparseGrid& grid, double empty_mass,
+                    const std::vector<std::uint8_t>* counted = nullptr) const;
 
   bool constrained() const { return count_ > 0; }
-  // Zeroes the constrained components of (x, y, z) at global node `node` (steps 2-3).
-  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const;
 
- private:
-  void mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const;
   struct Plane {
     int axis;
     int side;            // -1: the domain's low face (material at i >= index), +1: high face
     std::int64_t index;  // node index of the plane along axis
     BoundaryKind kind;
   };
+  std::span<const Plane> planes() const {
+    return {planes_.data(), static_cast<std::size_t>(count_)};
+  }
+
+  // mirror() on blocks that are not one SparseGrid: the halo owner's blocks on several ranks
+  // (docs/mpi.md), with the same operations in the same order, so the same bits. `blocks`
+  // provides size(), coord(i) (SparseGrid::Coord), find(key) (index or -1) and
+  // field(i, f) (64 nodes of field f: 0 mass, 1-3 momentum, 4-6 force). No body copies.
+  template <class Blocks>
+  void mirror_blocks(Blocks& blocks, MirrorMode mode) const;
+  // Zeroes the constrained components of (x, y, z) at global node `node` (steps 2-3).
+  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const;
+
+ private:
+  void mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const;
   std::array<Plane, 6> planes_{};
   int count_ = 0;
   Domain domain_;
 };
+
+template <class Blocks>
+void Boundaries::mirror_blocks(Blocks& blocks, MirrorMode mode) const {
+  constexpr int B = SparseGrid::kBlock;
+  const bool force = mode == kMassMomentumForce;
+  for (int k = 0; k < count_; ++k) {
+    const Plane& pl = planes_[static_cast<std::size_t>(k)];
+    if (pl.kind != BoundaryKind::symmetry && pl.kind != BoundaryKind::fixed) continue;
+    const bool fixed = pl.kind == BoundaryKind::fixed;
+    auto sign = [&](int d) { return fixed || d == pl.axis ? -1.0 : 1.0; };
+    // (block, node) of each ghost and its partner, as mirror_impl visits them
+    auto for_ghosts = [&](auto&& pass) {
+      for (std::size_t b = 0; b < blocks.size(); ++b) {
+        const SparseGrid::Coord c = blocks.coord(b);
+        const std::int64_t bc[3] = {c.x, c.y, c.z};
+        const std::int64_t lo = bc[pl.axis] * B;
+        if (lo + B - 1 < pl.index - 3 || lo > pl.index + 3) continue;
+        for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
+          const int loc[3] = {l / (B * B), (l / B) % B, l % B};
+          std::int64_t g[3];
+          for (int d = 0; d < 3; ++d) g[d] = bc[d] * B + loc[d];
+          const std::int64_t i = g[pl.axis];
+          const bool ghost = pl.side < 0 ? i < pl.index : i > pl.index;
+          if (i == pl.index && !fixed) {
+            blocks.field(b, 1 + pl.axis)[l] = 0.0;
+            if (force) blocks.field(b, 4 + pl.axis)[l] = 0.0;
+            continue;
+          }
+          if (!ghost || std::abs(i - pl.index) > 3) continue;
+          std::int64_t q[3] = {g[0], g[1], g[2]};
+          q[pl.axis] = 2 * pl.index - i;
+          const std::int64_t pb = blocks.find(SparseGrid::key(q[0] >> 2, q[1] >> 2, q[2] >> 2));
+          if (pb < 0) {
+            if (fixed) {
+              for (int d = 0; d < 3; ++d) {
+                blocks.field(b, 1 + d)[l] = 0.0;
+                if (force) blocks.field(b, 4 + d)[l] = 0.0;
+              }
+            }
+            continue;
+          }
+          const int pl_local = SparseGrid::local(
+              static_cast<int>(q[0] & 3), static_cast<int>(q[1] & 3), static_cast<int>(q[2] & 3));
+          pass(b, l, static_cast<std::size_t>(pb), pl_local);
+        }
+      }
+    };
+    for_ghosts([&](std::size_t gb, int gl, std::size_t pb, int pl_) {
+      if (force) blocks.field(pb, 0)[pl_] += blocks.field(gb, 0)[gl];
+      for (int d = 0; d < 3; ++d) {
+        blocks.field(pb, 1 + d)[pl_] += sign(d) * blocks.field(gb, 1 + d)[gl];
+        if (force) blocks.field(pb, 4 + d)[pl_] += sign(d) * blocks.field(gb, 4 + d)[gl];
+      }
+    });
+    for_ghosts([&](std::size_t gb, int gl, std::size_t pb, int pl_) {
+      if (force) blocks.field(gb, 0)[gl] = blocks.field(pb, 0)[pl_];
+      for (int d = 0; d < 3; ++d) {
+        blocks.field(gb, 1 + d)[gl] = sign(d) * blocks.field(pb, 1 + d)[pl_];
+        if (force) blocks.field(gb, 4 + d)[gl] = sign(d) * blocks.field(pb, 4 + d)[pl_];
+      }
+    });
+  }
+}
 
 }  // namespace shatter::engine

@@ -1,10 +1,14 @@
 #include "shatter/engine/simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <numeric>
+#include <unordered_map>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -17,6 +21,8 @@
 #include "engine/stage_graph.hpp"
 #include "shatter/core/solver_inputs.hpp"
 #include "shatter/grid/sparse_grid.hpp"
+#include "shatter/parallel/decomposition.hpp"
+#include "shatter/parallel/exact_sum.hpp"
 
 namespace shatter {
 namespace {
@@ -28,15 +34,62 @@ using engine::Resource;
 // the same way, and sums come out bitwise identical with 1 or N threads.
 constexpr std::size_t kParticleGrain = 2048;
 
+// Energy sums are exact (parallel::ExactSum): the same bits whatever the order of the
+// particles in the store, the thread count or the number of ranks that hold them.
 template <class F>
-double deterministic_sum(std::size_t n, F&& term) {
-  return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, n, kParticleGrain), 0.0,
-      [&](const tbb::blocked_range<std::size_t>& r, double acc) {
-        for (std::size_t p = r.begin(); p < r.end(); ++p) acc += term(p);
+parallel::ExactSum exact_sum(std::size_t n, F&& term) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, kParticleGrain), parallel::ExactSum{},
+      [&](const tbb::blocked_range<std::size_t>& r, parallel::ExactSum acc) {
+        for (std::size_t p = r.begin(); p < r.end(); ++p) acc.add(term(p));
         return acc;
       },
-      std::plus<>());
+      [](parallel::ExactSum a, const parallel::ExactSum& b) {
+        a.add(b);
+        return a;
+      });
+}
+
+SparseGrid::Coord decode_key(std::uint64_t k) {
+  constexpr std::int64_t off = std::int64_t{1} << 20;
+  constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
+  return {static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 42) & mask) - off),
+          static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 21) & mask) - off),
+          static_cast<std::int32_t>(static_cast<std::int64_t>(k & mask) - off)};
+}
+
+// Node arrays a halo exchange carries: the force-carrying P2G (step 1) or momentum only (the
+// MUSL remap and the XPIC passes).
+constexpr int kForceFields = 7;
+constexpr int kMomentumFields = 3;
+std::array<std::vector<double>*, kForceFields> node_fields(SparseGrid::Nodes& N) {
+  return {&N.mass, &N.px, &N.py, &N.pz, &N.fx, &N.fy, &N.fz};
+}
+
+// Test hook (tests/mpi): SHATTER_FAULT_INJECT="nan:RANK:STEP" puts a NaN into one velocity of
+// that rank at that step, "throw:RANK:STEP" throws there; never set in a real run.
+struct Fault {
+  int kind = 0;  // 0 none, 1 nan, 2 throw
+  int rank = -1;
+  std::uint64_t step = 0;
+};
+Fault read_fault() {
+  Fault f;
+  const char* env = std::getenv("SHATTER_FAULT_INJECT");
+  if (env == nullptr) return f;
+  const std::string v(env);
+  const auto a = v.find(':'), b = v.rfind(':');
+  if (a == std::string::npos || a == b) return f;
+  const std::string kind = v.substr(0, a);
+  f.kind = kind == "nan" ? 1 : kind == "throw" ? 2 : 0;
+  f.rank = std::atoi(v.substr(a + 1, b - a - 1).c_str());
+  f.step = std::strtoull(v.substr(b + 1).c_str(), nullptr, 10);
+  return f;
+}
+
+double env_double(const char* name, double fallback) {
+  const char* env = std::getenv(name);
+  return env != nullptr ? std::atof(env) : fallback;
 }
 
 const FieldSet kEngineFields =
@@ -95,6 +148,35 @@ FieldSet all_fields() {
 
 struct Simulation::Impl {
   Simulation& sim;
+  // The ranks (docs/mpi.md). With one rank nothing below the `dist` checks runs.
+  const parallel::Comm& comm = parallel::world();
+  const bool dist = parallel::world().distributed();
+  parallel::Decomposition decomp;
+  std::uint64_t decomp_version = 0, plan_version = ~std::uint64_t{0};
+  std::uint64_t rebalances = 0;
+  unsigned rebalance_every = 10;  // steps between load checks (SHATTER_MPI_REBALANCE_EVERY)
+  double imbalance = 1.2;  // max/mean particles that triggers a recut (SHATTER_MPI_IMBALANCE)
+  parallel::Traffic halo_traffic, migrate_traffic;
+  Fault fault = read_fault();
+  // Halo plan (rebuilt when the grid or the decomposition changes). Halo blocks: blocks another
+  // rank owns (ghosts: their partial sums go to the owner, the final sums come back) and owned
+  // blocks that owner blocks of other ranks may reach (their sums are formed from the partials
+  // of every rank, colour by colour, as in one process).
+  struct Halo {
+    std::vector<std::uint32_t> blocks;  // local block index per halo block
+    std::vector<int> owner;             // owner rank per halo block
+    std::vector<std::int32_t> slot;     // per halo block x colour: slot of the local partial, or -1
+    std::array<std::vector<std::uint32_t>, SparseGrid::kColours> by_colour;  // halo blocks
+    std::vector<double> slots;                                               // slot x field x node
+    std::vector<std::uint8_t> owned;     // per local block: this rank owns it (energy sums)
+    std::vector<std::size_t> ghosts_to;  // per rank: ghost blocks sent there
+  } halo;
+  // Sums of the step, combined over ranks after the graph (finish_step).
+  parallel::ExactSum kinetic_sum, potential_sum, internal_sum, carried_sum, carried_internal_sum,
+      removed_sum;
+  double fastest = 0.0;
+  std::string failure;  // a numerical failure of this rank in this step (distributed runs)
+  std::size_t failure_particle = 0;
   SparseGrid grid;
   engine::StageGraph graph;
   tbb::task_arena arena;
@@ -161,7 +243,23 @@ struct Simulation::Impl {
   void energy();
   void time_step();
   double stable_dt();
+  double fastest_local() const;
   void check_finite() const;
+  // Distributed runs (docs/mpi.md)
+  template <class Shape>
+  void compute_keys();
+  template <class Shape>
+  void distribute();
+  template <class Shape>
+  void migrate();
+  void rebalance_if_needed();
+  void build_halo_plan();
+  void halo_zero(int colour, int fields);
+  void halo_capture(int colour, int fields);
+  void halo_reduce(int fields);
+  bool decomp_planes_empty() const;
+  void finish_step();
+  double global(parallel::ExactSum s) const;
 };
 
 Simulation::Simulation(SolverConfig config, ParticleStore particles,
@@ -260,6 +358,27 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
   }
   const auto masses = particles_.col(Field::mass);
   impl_->empty_mass = 1e-12 * *std::min_element(masses.begin(), masses.end());
+  if (impl_->dist) {
+    // Combinations the decomposition does not carry yet (docs/mpi.md, "Gaps"): refused here,
+    // on every rank alike, rather than run with results that depend on the rank count.
+    if (impl_->contact) {
+      throw std::invalid_argument(
+          "solver: contact 'multi_field' is not supported on more than one MPI rank yet (body "
+          "copies would need the meetings of every rank); run it on one rank");
+    }
+    // Symmetry and fixed faces: ghost nodes and their partners get one owner, who mirrors them
+    // (halo_reduce).
+    std::vector<std::pair<int, std::int64_t>> planes;
+    for (const auto& pl : impl_->boundaries.planes()) {
+      if (pl.kind == BoundaryKind::symmetry || pl.kind == BoundaryKind::fixed) {
+        planes.emplace_back(pl.axis, pl.index);
+      }
+    }
+    impl_->decomp.set_planes(std::move(planes));
+    impl_->rebalance_every =
+        static_cast<unsigned>(std::max(1.0, env_double("SHATTER_MPI_REBALANCE_EVERY", 10.0)));
+    impl_->imbalance = env_double("SHATTER_MPI_IMBALANCE", 1.2);
+  }
 
   impl_->arena.execute([&] {
     switch (config_.shape) {
@@ -274,19 +393,35 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
         break;
     }
     impl_->check_finite();
+    if (impl_->dist) {
+      // Every rank built the whole scene (the same bits: flaws are drawn per particle id);
+      // each keeps the particles of its piece of the curve.
+      switch (config_.shape) {
+        case ShapeKind::linear:
+          impl_->distribute<kernels::LinearShape>();
+          break;
+        case ShapeKind::ugimp:
+          impl_->distribute<kernels::GimpShape>();
+          break;
+        case ShapeKind::bspline2:
+          impl_->distribute<kernels::BSpline2Shape>();
+          break;
+      }
+    }
     // Initial energy: v^0 is both the "synchronised" and the stored velocity at t = 0.
     const auto& P = particles_;
     const auto m = P.col(Field::mass), e = P.col(Field::energy);
     const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
     const auto x = P.col(Field::x), y = P.col(Field::y), z = P.col(Field::z);
     const Vec3 g = config_.gravity;
-    energy_.kinetic = deterministic_sum(P.size(), [&](std::size_t p) {
+    energy_.kinetic = impl_->global(exact_sum(P.size(), [&](std::size_t p) {
       return 0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]);
-    });
-    energy_.internal = deterministic_sum(P.size(), [&](std::size_t p) { return m[p] * e[p]; });
-    energy_.potential = deterministic_sum(P.size(), [&](std::size_t p) {
+    }));
+    energy_.internal =
+        impl_->global(exact_sum(P.size(), [&](std::size_t p) { return m[p] * e[p]; }));
+    energy_.potential = impl_->global(exact_sum(P.size(), [&](std::size_t p) {
       return -m[p] * (g.x() * x[p] + g.y() * y[p] + g.z() * z[p]);
-    });
+    }));
     energy_.initial = energy_.total();
     energy_.scale = std::abs(energy_.kinetic) + std::abs(energy_.internal);
     impl_->internal_next = energy_.internal;
@@ -309,13 +444,22 @@ double Simulation::grid_mass() const {
 const std::vector<StageTiming>& Simulation::stage_timings() const {
   return impl_->graph.timings();
 }
+parallel::Traffic Simulation::halo_traffic() const {
+  return impl_->halo_traffic;
+}
+parallel::Traffic Simulation::migrate_traffic() const {
+  return impl_->migrate_traffic;
+}
+std::uint64_t Simulation::rebalances() const {
+  return impl_->rebalances;
+}
 
 void Simulation::restore(const Clock& clock, const EnergyBudget& energy) {
   clock_ = clock;
   energy_ = energy;
-  impl_->internal_next = deterministic_sum(particles_.size(), [&](std::size_t p) {
+  impl_->internal_next = impl_->global(exact_sum(particles_.size(), [&](std::size_t p) {
     return particles_.col(Field::mass)[p] * particles_.col(Field::energy)[p];
-  });
+  }));
 }
 
 void Simulation::restore(const Clock& clock, const EnergyBudget& energy, double internal_next) {
@@ -348,6 +492,7 @@ void Simulation::step() {
   for (int attempt = 0;; ++attempt) {
     impl_->dt_step = clock_.dt;
     impl_->arena.execute([&] { impl_->graph.run(); });
+    impl_->finish_step();
     if (!may_retake || attempt == kMaxRetakes ||
         !(impl_->dt_step > config_.retake_ratio * clock_.dt)) {
       break;
@@ -392,6 +537,11 @@ void Simulation::Impl::build_stages() {
   const bool apic = sim.config_.transfer == TransferKind::apic;
   const FieldSet affine = apic ? kVelocityGradient : FieldSet{};
 
+  // 0. particles move to the rank that owns their owner block (after last step's positions);
+  // the curve is recut here when the load is uneven (docs/mpi.md)
+  if (dist) {
+    graph.add({"migrate", {geometry, R::kClock}, {all, R::kBlocks}, [this] { migrate<Shape>(); }});
+  }
   // 1. sort particles by grid block (and re-order the columns every few steps)
   graph.add({"sort", {geometry, R::kClock}, {all, R::kBlocks}, [this] { sort<Shape>(); }});
   // 1, 3. scatter mass, momentum and internal force to the grid (Eqs. 29, 32, 33)
@@ -400,6 +550,11 @@ void Simulation::Impl::build_stages() {
        {geometry | kVelocity | kStress | affine | FieldSet{Field::mass, Field::rho}, R::kBlocks},
        {{}, R::kGrid},
        [this] { p2g<Shape>(true); }});
+  // 1b. partial node sums of blocks several ranks reach go to the owner, which adds them in
+  // colour order; final sums come back (docs/mpi.md)
+  if (dist) {
+    graph.add({"halo", {{}, R::kBlocks}, {{}, R::kGrid}, [this] { halo_reduce(kForceFields); }});
+  }
   // 2, 3, 4. boundary conditions and the momentum update on the grid (Eq. 27)
   graph.add({"grid_update", {{}, R::kClock | R::kBlocks}, {{}, R::kGrid | R::kBudget}, [this] {
                grid_update();
@@ -462,29 +617,7 @@ void Simulation::Impl::sort() {
   stencil_w.resize(n * kernels::Stencil<Shape>::kRow);
   stencil_off.resize(n);
 
-  const double ih = inv_h();
-  // First stencil node: floor(xi) for 2-wide stencils, floor(xi - 1/2) for 3-wide ones.
-  const double shift = Shape::kWidth == 3 ? 0.5 : 0.0;
-  const double limit = static_cast<double>(SparseGrid::kMaxBlockCoord * SparseGrid::kBlock);
-  auto compute_keys = [&] {
-    const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
-        [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t p = r.begin(); p < r.end(); ++p) {
-            std::int64_t b[3];
-            for (int d = 0; d < 3; ++d) {
-              const double xi = X[d][p] * ih - shift;
-              // Out-of-range (or NaN) positions are caught by check_finite below;
-              // clamp so the key stays defined meanwhile.
-              const double c = std::isfinite(xi) ? std::clamp(xi, -limit, limit) : 0.0;
-              b[d] = static_cast<std::int64_t>(std::floor(c)) >> SparseGrid::kBlockBits;
-            }
-            owner_keys[p] = SparseGrid::key(b[0], b[1], b[2]);
-          }
-        });
-  };
-  compute_keys();
+  compute_keys<Shape>();
   check_finite();
 
   const unsigned every = sim.config_.reorder_interval;
@@ -504,12 +637,17 @@ void Simulation::Impl::sort() {
     for (std::size_t k = 0; k < n; ++k) sorted[k] = owner_keys[order[k]];
     owner_keys.swap(sorted);
   }
+  // The particle ids make the order inside each block canonical (SparseGrid::assign).
+  const auto ids = P.col(IField::id);
+  bool rebuilt = false;
   if (contact) {
     const auto body = P.col(IField::body);
-    grid.assign(owner_keys, {body.data(), body.size()});
+    rebuilt = grid.assign(owner_keys, {body.data(), body.size()}, {ids.data(), ids.size()});
   } else {
-    grid.assign(owner_keys);
+    rebuilt = grid.assign(owner_keys, {}, {ids.data(), ids.size()});
   }
+  if (dist && (rebuilt || plan_version != decomp_version)) build_halo_plan();
+  const double ih = inv_h();
   // Each particle's stencil at x^n, read by every transfer of the step (P2G, G2P, remap,
   // velocity gradient: kernels::StencilCache).
   const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
@@ -518,6 +656,32 @@ void Simulation::Impl::sort() {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
+                    });
+}
+
+template <class Shape>
+void Simulation::Impl::compute_keys() {
+  ParticleStore& P = sim.particles_;
+  const std::size_t n = P.size();
+  owner_keys.resize(n);
+  const double ih = inv_h();
+  // First stencil node: floor(xi) for 2-wide stencils, floor(xi - 1/2) for 3-wide ones.
+  const double shift = Shape::kWidth == 3 ? 0.5 : 0.0;
+  const double limit = static_cast<double>(SparseGrid::kMaxBlockCoord * SparseGrid::kBlock);
+  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                        std::int64_t b[3];
+                        for (int d = 0; d < 3; ++d) {
+                          const double xi = X[d][p] * ih - shift;
+                          // Out-of-range (or NaN) positions are caught by check_finite below;
+                          // clamp so the key stays defined meanwhile.
+                          const double c = std::isfinite(xi) ? std::clamp(xi, -limit, limit) : 0.0;
+                          b[d] = static_cast<std::int64_t>(std::floor(c)) >> SparseGrid::kBlockBits;
+                        }
+                        owner_keys[p] = SparseGrid::key(b[0], b[1], b[2]);
+                      }
                     });
 }
 
@@ -553,8 +717,12 @@ void Simulation::Impl::p2g(bool with_force, double* const* velocity) {
     p2g_bodies<Shape>(in, with_force);
     return;
   }
-  // Colour by colour: blocks of one colour never share a node (see SparseGrid).
+  // Colour by colour: blocks of one colour never share a node (see SparseGrid). On several
+  // ranks, the partial sums of each colour at halo blocks are kept apart (halo_capture) and
+  // added in colour order once every rank's partials are in (halo_reduce).
+  const int fields = with_force ? kForceFields : kMomentumFields;
   for (int c = 0; c < SparseGrid::kColours; ++c) {
+    if (dist) halo_zero(c, fields);
     const auto blocks = grid.colour(c);
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
@@ -574,7 +742,11 @@ void Simulation::Impl::p2g(bool with_force, double* const* velocity) {
             }
           }
         });
+    if (dist) halo_capture(c, fields);
   }
+  // The force-carrying scatter's exchange is its own stage ("halo"); the momentum-only scatters
+  // (remap, XPIC passes) exchange here.
+  if (dist && !with_force) halo_reduce(kMomentumFields);
 }
 
 // P2G where bodies meet: the particles of an owner block scatter in runs that share one
@@ -616,8 +788,10 @@ void Simulation::Impl::p2g_bodies(const kernels::P2GParticles& in, bool with_for
 void Simulation::Impl::grid_update() {
   const Clock& clk = sim.clock_;
   const double dt_kick = 0.5 * (clk.dt_prev + dt_step);  // leapfrog dt^n (Fig. 16)
-  boundaries.mirror(grid, engine::Boundaries::kMassMomentumForce);
-  const double removed = boundaries.integrate(grid, sim.config_.gravity, dt_kick, empty_mass);
+  // (several ranks: the owners mirrored the halo blocks, halo_reduce)
+  if (!dist) boundaries.mirror(grid, engine::Boundaries::kMassMomentumForce);
+  boundaries.integrate(grid, sim.config_.gravity, dt_kick, empty_mass, dist ? &halo.owned : nullptr,
+                       &removed_sum);
   if (grid.has_copies()) {
     // Contact after the momentum update (end of step 4): G2P hands the particles the corrected
     // velocity and acceleration. What the correction takes out of the nodal kinetic energy is
@@ -637,8 +811,7 @@ void Simulation::Impl::grid_update() {
   // 2.4% "boundary work" drift (scenes/verification/vibrating-bar.toml).
   // The same holds for the share of the grid velocity that PIC, XPIC and the FLIP/PIC blend hand
   // the particles.
-  const double taken = filtered_share();
-  if (taken > 0.0) sim.energy_.boundary_work += taken * removed;
+  // (booked in finish_step, summed over the ranks)
 }
 
 double Simulation::Impl::filtered_share() const {
@@ -710,7 +883,7 @@ void Simulation::Impl::xpic() {
                         }
                       });
     p2g<Shape>(false, w);
-    boundaries.mirror(grid, engine::Boundaries::kMomentum);
+    if (!dist) boundaries.mirror(grid, engine::Boundaries::kMomentum);
     boundaries.velocities(grid, empty_mass);
     const double ratio = static_cast<double>(m - k + 1) / static_cast<double>(k);
     const double sign = k % 2 == 0 ? -1.0 : 1.0;  // (-1)^{k+1}
@@ -782,7 +955,7 @@ void Simulation::Impl::remap() {
     std::copy(N.pz.begin() + static_cast<std::ptrdiff_t>(g0), N.pz.end(), at + 2 * n);
   }
   p2g<Shape>(false);
-  boundaries.mirror(grid, engine::Boundaries::kMomentum);
+  if (!dist) boundaries.mirror(grid, engine::Boundaries::kMomentum);
   // The remapped velocities only feed the strain rate (MUSL); no particle velocity changes here.
   boundaries.velocities(grid, empty_mass);
   if (contact_nodes) {
@@ -834,27 +1007,28 @@ void Simulation::Impl::outflow() {
   const auto m = P.col(Field::mass), e = P.col(Field::energy);
   const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
   const Vec3 g = sim.config_.gravity;
-  double carried = 0.0, carried_internal = 0.0;
+  parallel::ExactSum carried, carried_internal;
   for (std::size_t p = 0; p < P.size(); ++p) {
     if (!boundaries.outside_outflow(Vec3(x[p], y[p], z[p]))) continue;
     leaving[p] = 1;
-    carried_internal += m[p] * e[p];
-    carried += 0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]) + m[p] * e[p] -
-               m[p] * (g.x() * x[p] + g.y() * y[p] + g.z() * z[p]);
+    carried_internal.add(m[p] * e[p]);
+    carried.add(0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]) + m[p] * e[p] -
+                m[p] * (g.x() * x[p] + g.y() * y[p] + g.z() * z[p]));
   }
   if (P.remove_if(leaving) == 0) return;
-  if (P.size() == 0) {
+  // On several ranks one rank may lose all its particles; finish_step checks the total.
+  if (P.size() == 0 && !dist) {
     throw NumericalError("every particle has left through the outflow boundaries", 0,
                          sim.clock_.step);
   }
-  sim.energy_.outflow += carried;
+  carried_sum = carried;  // booked in finish_step, summed over the ranks
   // The internal energy reported with this step is the sum made at the end of the previous one
   // (internal_next), which still holds the departed particles: without this their internal
   // energy would count twice in this step's budget, once there and once in `carried` (a
   // single-row spike of the energy error, +0.3 to +0.5 % in the lab impact), and drop out of the
   // internal sum one row later. Kinetic and potential energy are dropped from this step's sums
   // below, so all three leave the budget in the step that books them as outflow.
-  internal_next -= carried_internal;
+  carried_internal_sum = carried_internal;
   // The particles still carry this step's mechanical energy in kinetic[]/potential[]; drop the
   // departed ones so the energy sum below matches the remaining particles.
   std::size_t k = 0;
@@ -871,13 +1045,10 @@ void Simulation::Impl::outflow() {
 void Simulation::Impl::energy() {
   ParticleStore& P = sim.particles_;
   const auto m = P.col(Field::mass), e = P.col(Field::energy);
-  EnergyBudget& E = sim.energy_;
-  E.kinetic = deterministic_sum(kinetic.size(), [&](std::size_t p) { return kinetic[p]; });
-  E.potential = deterministic_sum(potential.size(), [&](std::size_t p) { return potential[p]; });
-  // Internal energy at t^n was summed at the end of the previous step.
-  E.internal = internal_next;
-  internal_next = deterministic_sum(P.size(), [&](std::size_t p) { return m[p] * e[p]; });
-  E.scale = std::max(E.scale, std::abs(E.kinetic) + std::abs(E.internal));
+  // This rank's exact sums; finish_step combines them over the ranks and books them.
+  kinetic_sum = exact_sum(kinetic.size(), [&](std::size_t p) { return kinetic[p]; });
+  potential_sum = exact_sum(potential.size(), [&](std::size_t p) { return potential[p]; });
+  internal_sum = exact_sum(P.size(), [&](std::size_t p) { return m[p] * e[p]; });
 }
 
 void Simulation::Impl::check_finite() const {
@@ -930,11 +1101,18 @@ void Simulation::Impl::check_finite() const {
 }
 
 double Simulation::Impl::stable_dt() {
+  const double fast = dist ? comm.max(fastest_local()) : fastest_local();
+  const SolverConfig& cfg = sim.config_;
+  if (!(fast > 0.0)) return cfg.dt_max;  // nothing moves and nothing can: any step is stable
+  return std::min(cfg.cfl * cfg.cell_size / fast, cfg.dt_max);
+}
+
+double Simulation::Impl::fastest_local() const {
   const ParticleStore& P = sim.particles_;
   const auto c = P.col(Field::soundspeed);
   const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
   // max_p (c_p + |v_p|) of Eq. 34; max is exact, so the reduction order does not matter.
-  const double fastest = tbb::parallel_reduce(
+  const double fast_max = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double acc) {
         for (std::size_t p = r.begin(); p < r.end(); ++p) {
@@ -943,19 +1121,443 @@ double Simulation::Impl::stable_dt() {
         return acc;
       },
       [](double a, double b) { return std::max(a, b); });
-  const SolverConfig& cfg = sim.config_;
-  if (!(fastest > 0.0)) return cfg.dt_max;  // nothing moves and nothing can: any step is stable
-  return std::min(cfg.cfl * cfg.cell_size / fastest, cfg.dt_max);
+  return fast_max;
 }
 
 void Simulation::Impl::time_step() {
-  check_finite();
+  if (fault.kind != 0 && fault.rank == comm.rank() && fault.step == sim.clock_.step + 1) {
+    if (fault.kind == 2) {
+      throw std::runtime_error(
+          fmt::format("injected fault (SHATTER_FAULT_INJECT) at step {}", fault.step));
+    }
+    if (sim.particles_.size() > 0) sim.particles_.col(Field::vx)[0] = std::nan("");
+  }
+  if (dist) {
+    // A failure is decided for all ranks at once in finish_step, so that no rank waits for one
+    // that left.
+    try {
+      check_finite();
+    } catch (const NumericalError& e) {
+      failure = fmt::format("rank {}: {}", comm.rank(), e.what());
+      failure_particle = e.particle();
+    }
+  } else {
+    check_finite();
+  }
   Clock& clk = sim.clock_;
   clk.time += dt_step;
   clk.dt_prev = dt_step;
   ++clk.step;
-  clk.dt = stable_dt();
+  fastest = fastest_local();
+}
+
+// After the step's graph: the sums and the next time step over all ranks (exact: integer limb
+// sums and a maximum), then the same decisions on every rank.
+void Simulation::Impl::finish_step() {
+  EnergyBudget& E = sim.energy_;
+  Clock& clk = sim.clock_;
+  double flags[3] = {fastest, failure.empty() ? 0.0 : 1.0, sim.particles_.size() > 0 ? 1.0 : 0.0};
+  if (dist) comm.max(flags);
+  if (flags[1] > 0.0) {
+    const std::string what = failure.empty()
+                                 ? std::string("numerical failure on another rank (reported there)")
+                                 : failure;
+    failure.clear();
+    throw NumericalError(what, failure_particle, clk.step);
+  }
+  if (flags[2] == 0.0) {
+    throw NumericalError("every particle has left through the outflow boundaries", 0, clk.step);
+  }
+  parallel::ExactSum* sums[] = {&kinetic_sum, &potential_sum,        &internal_sum,
+                                &carried_sum, &carried_internal_sum, &removed_sum};
+  double v[6];
+  if (dist) {
+    constexpr int L = parallel::ExactSum::kLimbs;
+    std::vector<std::int64_t> limbs(6 * L + 6);
+    for (int k = 0; k < 6; ++k) {
+      sums[k]->normalise();
+      std::copy(sums[k]->limbs().begin(), sums[k]->limbs().end(), limbs.begin() + k * L);
+      const double sp = sums[k]->special();
+      limbs[6 * L + static_cast<std::size_t>(k)] = sp != 0.0 || std::isnan(sp) ? 1 : 0;
+    }
+    comm.sum(limbs);
+    for (int k = 0; k < 6; ++k) {
+      std::copy(limbs.begin() + k * L, limbs.begin() + (k + 1) * L, sums[k]->limbs().begin());
+      sums[k]->special() = limbs[6 * L + static_cast<std::size_t>(k)] > 0 ? std::nan("") : 0.0;
+    }
+  }
+  for (int k = 0; k < 6; ++k) {
+    v[k] = sums[k]->value();
+    *sums[k] = parallel::ExactSum{};
+  }
+  E.kinetic = v[0];
+  E.potential = v[1];
+  // Internal energy at t^n was summed at the end of the previous step; what left through an
+  // outflow face in this step is booked as outflow instead (see outflow()).
+  E.internal = internal_next - v[4];
+  internal_next = v[2];
+  E.outflow += v[3];
+  E.scale = std::max(E.scale, std::abs(E.kinetic) + std::abs(E.internal));
+  const double taken = filtered_share();
+  if (taken > 0.0) E.boundary_work += taken * v[5];
+  fastest = flags[0];
+  const SolverConfig& cfg = sim.config_;
+  clk.dt = fastest > 0.0 ? std::min(cfg.cfl * cfg.cell_size / fastest, cfg.dt_max) : cfg.dt_max;
   check_new_time_step(clk, sim.config_.dt_min, "no sound speed and no motion, and no dt_max set");
+}
+
+double Simulation::Impl::global(parallel::ExactSum s) const {
+  if (dist) {
+    s.normalise();
+    std::vector<std::int64_t> limbs(s.limbs().begin(), s.limbs().end());
+    const double sp = s.special();
+    limbs.push_back(sp != 0.0 || std::isnan(sp) ? 1 : 0);
+    comm.sum(limbs);
+    std::copy(limbs.begin(), limbs.end() - 1, s.limbs().begin());
+    s.special() = limbs.back() > 0 ? std::nan("") : 0.0;
+  }
+  return s.value();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Distributed runs (docs/mpi.md)
+
+template <class Shape>
+void Simulation::Impl::distribute() {
+  // Every rank holds every particle here: the first cut needs no communication.
+  compute_keys<Shape>();
+  std::vector<std::uint64_t> keys(owner_keys);
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::pair<std::uint64_t, std::int64_t>> weights;
+  for (const std::uint64_t k : keys) {
+    if (weights.empty() || weights.back().first != k) weights.emplace_back(k, 0);
+    ++weights.back().second;
+  }
+  decomp.build(std::move(weights), comm.size());
+  ++decomp_version;
+  ParticleStore& P = sim.particles_;
+  std::vector<std::uint8_t> keep(P.size());
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    keep[p] = decomp.rank_of(owner_keys[p]) == comm.rank() ? 1 : 0;
+  }
+  P = parallel::merge_particles(P, keep, {});
+}
+
+void Simulation::Impl::rebalance_if_needed() {
+  if (sim.clock_.step % rebalance_every != 0) return;
+  const std::int64_t mine[1] = {static_cast<std::int64_t>(owner_keys.size())};
+  const auto counts = comm.allgather(mine);
+  std::int64_t total = 0, most = 0;
+  for (const std::int64_t c : counts) {
+    total += c;
+    most = std::max(most, c);
+  }
+  const double mean = static_cast<double>(total) / static_cast<double>(counts.size());
+  if (!(static_cast<double>(most) > imbalance * mean)) return;
+  // Recut from every rank's (owner block, particles) pairs; ownership moves, values do not.
+  std::vector<std::uint64_t> keys(owner_keys);
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::int64_t> flat;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (k == 0 || keys[k] != keys[k - 1]) {
+      flat.push_back(std::bit_cast<std::int64_t>(keys[k]));
+      flat.push_back(0);
+    }
+    ++flat.back();
+  }
+  const auto all = comm.allgather(flat);
+  std::vector<std::pair<std::uint64_t, std::int64_t>> weights;
+  weights.reserve(all.size() / 2);
+  for (std::size_t k = 0; k + 1 < all.size(); k += 2) {
+    weights.emplace_back(std::bit_cast<std::uint64_t>(all[k]), all[k + 1]);
+  }
+  decomp.build(std::move(weights), comm.size());
+  ++decomp_version;
+  ++rebalances;
+}
+
+template <class Shape>
+void Simulation::Impl::migrate() {
+  ParticleStore& P = sim.particles_;
+  compute_keys<Shape>();
+  rebalance_if_needed();
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  const auto me = static_cast<std::size_t>(comm.rank());
+  std::vector<std::vector<std::uint32_t>> leaving(ranks);
+  std::vector<std::uint8_t> keep(P.size(), 1);
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const auto r = static_cast<std::size_t>(decomp.rank_of(owner_keys[p]));
+    if (r == me) continue;
+    keep[p] = 0;
+    leaving[r].push_back(static_cast<std::uint32_t>(p));
+  }
+  std::vector<parallel::Bytes> send(ranks);
+  bool moved = false;
+  for (std::size_t r = 0; r < ranks; ++r) {
+    if (leaving[r].empty()) continue;
+    send[r] = parallel::pack_particles(P, leaving[r]);
+    moved = true;
+  }
+  std::vector<parallel::Bytes> received = comm.exchange(send, &migrate_traffic);
+  received[me].clear();
+  for (const auto& b : received) moved = moved || !b.empty();
+  // Arrivals go to the end of their group; their place in the store changes no sum (the order
+  // inside a block is by id, the energy sums are exact).
+  if (moved) P = parallel::merge_particles(P, keep, received);
+}
+
+void Simulation::Impl::build_halo_plan() {
+  plan_version = decomp_version;
+  const int me = comm.rank();
+  const std::size_t nb = grid.blocks();
+  halo.blocks.clear();
+  halo.owner.clear();
+  halo.slot.clear();
+  for (auto& c : halo.by_colour) c.clear();
+  halo.owned.assign(nb, 0);
+  halo.ghosts_to.assign(static_cast<std::size_t>(comm.size()), 0);
+  std::int32_t slots = 0;
+  for (std::uint32_t b = 0; b < nb; ++b) {
+    const SparseGrid::Coord c = grid.coord(b);
+    const std::uint64_t k = SparseGrid::key(c.x, c.y, c.z);
+    const int owner = decomp.rank_of(k);
+    halo.owned[b] = owner == me ? 1 : 0;
+    // Owner blocks b - s (s in {0,1}^3) are the only ones whose stencils reach b.
+    // Blocks near a symmetry or fixed plane always go through their owner, who mirrors them.
+    bool remote = owner != me || decomp.near_plane(k);
+    std::int32_t slot[SparseGrid::kColours];
+    std::fill(std::begin(slot), std::end(slot), -1);
+    for (int sft = 0; sft < 8; ++sft) {
+      const std::int64_t o[3] = {std::int64_t{c.x} - (sft & 1),
+                                 std::int64_t{c.y} - ((sft >> 1) & 1),
+                                 std::int64_t{c.z} - ((sft >> 2) & 1)};
+      const std::uint64_t ok = SparseGrid::key(o[0], o[1], o[2]);
+      if (decomp.rank_of(ok) != me) {
+        remote = true;
+        continue;
+      }
+      const std::int64_t ob = grid.find(ok);
+      if (ob < 0 || grid.owned(static_cast<std::uint32_t>(ob)).empty()) continue;
+      const int colour = static_cast<int>((o[0] & 1) | ((o[1] & 1) << 1) | ((o[2] & 1) << 2));
+      slot[colour] = 1;
+    }
+    if (!remote) continue;
+    const auto h = static_cast<std::uint32_t>(halo.blocks.size());
+    halo.blocks.push_back(b);
+    halo.owner.push_back(owner);
+    if (owner != me) ++halo.ghosts_to[static_cast<std::size_t>(owner)];
+    for (int col = 0; col < SparseGrid::kColours; ++col) {
+      halo.slot.push_back(slot[col] >= 0 ? slots++ : -1);
+      if (slot[col] >= 0) halo.by_colour[static_cast<std::size_t>(col)].push_back(h);
+    }
+  }
+  halo.slots.resize(static_cast<std::size_t>(slots) * kForceFields * SparseGrid::kBlockNodes);
+}
+
+bool Simulation::Impl::decomp_planes_empty() const {
+  for (const auto& pl : boundaries.planes()) {
+    if (pl.kind == BoundaryKind::symmetry || pl.kind == BoundaryKind::fixed) return false;
+  }
+  return true;
+}
+
+void Simulation::Impl::halo_zero(int colour, int fields) {
+  const auto F = node_fields(grid.nodes());
+  for (const std::uint32_t h : halo.by_colour[static_cast<std::size_t>(colour)]) {
+    const std::size_t at = std::size_t{halo.blocks[h]} * SparseGrid::kBlockNodes;
+    // the mass of a momentum-only scatter is step 1's and stays
+    for (int f = fields == kForceFields ? 0 : 1; f < (fields == kForceFields ? 7 : 4); ++f) {
+      std::fill_n(F[static_cast<std::size_t>(f)]->begin() + static_cast<std::ptrdiff_t>(at),
+                  SparseGrid::kBlockNodes, 0.0);
+    }
+  }
+}
+
+void Simulation::Impl::halo_capture(int colour, int fields) {
+  const auto F = node_fields(grid.nodes());
+  constexpr int BN = SparseGrid::kBlockNodes;
+  for (const std::uint32_t h : halo.by_colour[static_cast<std::size_t>(colour)]) {
+    const std::size_t at = std::size_t{halo.blocks[h]} * BN;
+    const auto slot = static_cast<std::size_t>(halo.slot[h * 8 + static_cast<std::size_t>(colour)]);
+    double* out = halo.slots.data() + slot * kForceFields * BN;
+    for (int f = fields == kForceFields ? 0 : 1; f < (fields == kForceFields ? 7 : 4); ++f) {
+      std::copy_n(F[static_cast<std::size_t>(f)]->begin() + static_cast<std::ptrdiff_t>(at), BN,
+                  out + f * BN);
+    }
+  }
+}
+
+// Partial sums of halo blocks to their owner, which forms each node's sum from the partials of
+// every colour in colour order, starting from zero, as the single process does (SparseGrid:
+// every node gets at most one partial per colour), then sends the sums back to the ranks that
+// sent partials. Messages are aggregated per neighbour rank: one each way per pair and call.
+void Simulation::Impl::halo_reduce(int fields) {
+  constexpr int BN = SparseGrid::kBlockNodes;
+  const int f0 = fields == kForceFields ? 0 : 1, f1 = fields == kForceFields ? 7 : 4;
+  const std::size_t width = static_cast<std::size_t>(f1 - f0) * BN;  // doubles per block
+  const auto F = node_fields(grid.nodes());
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  const auto me = comm.rank();
+  // 1. partials of ghost blocks, by owner rank: key, colour mask, one block of values per colour
+  std::vector<parallel::Bytes> send(ranks);
+  for (std::size_t h = 0; h < halo.blocks.size(); ++h) {
+    if (halo.owner[h] == me) continue;
+    auto& out = send[static_cast<std::size_t>(halo.owner[h])];
+    const SparseGrid::Coord c = grid.coord(halo.blocks[h]);
+    parallel::put(out, SparseGrid::key(c.x, c.y, c.z));
+    std::uint64_t mask = 0;
+    for (int col = 0; col < 8; ++col) {
+      if (halo.slot[h * 8 + static_cast<std::size_t>(col)] >= 0) mask |= 1u << col;
+    }
+    parallel::put(out, mask);
+    for (int col = 0; col < 8; ++col) {
+      const std::int32_t sl = halo.slot[h * 8 + static_cast<std::size_t>(col)];
+      if (sl < 0) continue;
+      parallel::put(out,
+                    halo.slots.data() + static_cast<std::size_t>(sl) * kForceFields * BN + f0 * BN,
+                    width);
+    }
+  }
+  const std::vector<parallel::Bytes> recv = comm.exchange(send, &halo_traffic);
+
+  // 2. the owner's sums: local partials of owned halo blocks, and every received partial
+  struct Target {
+    std::int64_t block = -1;  // local block, or -1: a block only other ranks' particles reach
+    std::size_t temp = 0;
+    std::array<const double*, 8> src{};
+  };
+  std::vector<Target> targets;
+  std::unordered_map<std::uint64_t, std::size_t> index;
+  std::vector<double> temp;
+  for (std::size_t h = 0; h < halo.blocks.size(); ++h) {
+    if (halo.owner[h] != me) continue;
+    Target t;
+    t.block = halo.blocks[h];
+    for (int col = 0; col < 8; ++col) {
+      const std::int32_t sl = halo.slot[h * 8 + static_cast<std::size_t>(col)];
+      if (sl >= 0)
+        t.src[static_cast<std::size_t>(col)] =
+            halo.slots.data() + static_cast<std::size_t>(sl) * kForceFields * BN + f0 * BN;
+    }
+    const SparseGrid::Coord c = grid.coord(halo.blocks[h]);
+    index.emplace(SparseGrid::key(c.x, c.y, c.z), targets.size());
+    targets.push_back(t);
+  }
+  std::vector<std::vector<std::size_t>> reply(ranks);
+  for (std::size_t q = 0; q < ranks; ++q) {
+    if (static_cast<int>(q) == me) continue;
+    const parallel::Bytes& b = recv[q];
+    std::size_t at = 0;
+    while (at < b.size()) {
+      std::uint64_t k = 0, mask = 0;
+      std::memcpy(&k, b.data() + at, 8);
+      std::memcpy(&mask, b.data() + at + 8, 8);
+      at += 16;
+      auto [it, fresh] = index.emplace(k, targets.size());
+      if (fresh) {
+        Target t;
+        const std::int64_t lb = grid.find(k);
+        if (lb >= 0) {
+          throw std::logic_error("halo: partials for an owned block outside the halo plan");
+        }
+        t.temp = temp.size();
+        temp.resize(temp.size() + width);
+        targets.push_back(t);
+      }
+      Target& t = targets[it->second];
+      for (int col = 0; col < 8; ++col) {
+        if (!(mask >> col & 1)) continue;
+        if (t.src[static_cast<std::size_t>(col)] != nullptr) {
+          throw std::logic_error("halo: two partials of one colour for one block");
+        }
+        t.src[static_cast<std::size_t>(col)] = reinterpret_cast<const double*>(b.data() + at);
+        at += width * sizeof(double);
+      }
+      reply[q].push_back(it->second);
+    }
+  }
+  // recv buffers hold doubles at 16-byte + k*width offsets: aligned for double reads, since
+  // std::vector<std::byte> storage comes from operator new (16-byte aligned).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, targets.size(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t t = r.begin(); t < r.end(); ++t) {
+                        const Target& tg = targets[t];
+                        for (int f = f0; f < f1; ++f) {
+                          double* out = tg.block >= 0 ? F[static_cast<std::size_t>(f)]->data() +
+                                                            static_cast<std::size_t>(tg.block) * BN
+                                                      : temp.data() + tg.temp +
+                                                            static_cast<std::size_t>(f - f0) * BN;
+                          const std::size_t off = static_cast<std::size_t>(f - f0) * BN;
+                          for (int l = 0; l < BN; ++l) {
+                            double v = 0.0;
+                            for (int col = 0; col < 8; ++col) {
+                              const double* src = tg.src[static_cast<std::size_t>(col)];
+                              if (src != nullptr) v += src[off + static_cast<std::size_t>(l)];
+                            }
+                            out[l] = v;
+                          }
+                        }
+                      }
+                    });
+  // 2b. symmetry and fixed planes, on the owner's complete sums (every block near a plane is a
+  // halo block, and a ghost and its partner have one owner: Decomposition::set_planes)
+  if (!decomp_planes_empty()) {
+    struct Blocks {
+      Impl& im;
+      std::vector<Target>& t;
+      std::unordered_map<std::uint64_t, std::size_t>& index;
+      std::vector<double>& temp;
+      int f0;
+      std::vector<SparseGrid::Coord> coords;
+      std::size_t size() const { return t.size(); }
+      SparseGrid::Coord coord(std::size_t i) const { return coords[i]; }
+      std::int64_t find(std::uint64_t k) const {
+        const auto it = index.find(k);
+        return it == index.end() ? -1 : static_cast<std::int64_t>(it->second);
+      }
+      double* field(std::size_t i, int f) {
+        const Target& tg = t[i];
+        if (tg.block >= 0) {
+          return node_fields(im.grid.nodes())[static_cast<std::size_t>(f)]->data() +
+                 static_cast<std::size_t>(tg.block) * SparseGrid::kBlockNodes;
+        }
+        return temp.data() + tg.temp + static_cast<std::size_t>(f - f0) * SparseGrid::kBlockNodes;
+      }
+    } blocks{*this, targets, index, temp, f0, {}};
+    blocks.coords.resize(targets.size());
+    for (const auto& [k, i] : index) blocks.coords[i] = decode_key(k);
+    boundaries.mirror_blocks(blocks, fields == kForceFields ? engine::Boundaries::kMassMomentumForce
+                                                            : engine::Boundaries::kMomentum);
+  }
+  // 3. the sums back to the ranks that sent partials, in the order they sent them
+  std::vector<parallel::Bytes> back(ranks), back_in(ranks);
+  for (std::size_t q = 0; q < ranks; ++q) {
+    for (const std::size_t t : reply[q]) {
+      const Target& tg = targets[t];
+      for (int f = f0; f < f1; ++f) {
+        const double* v =
+            tg.block >= 0
+                ? F[static_cast<std::size_t>(f)]->data() + static_cast<std::size_t>(tg.block) * BN
+                : temp.data() + tg.temp + static_cast<std::size_t>(f - f0) * BN;
+        parallel::put(back[q], v, BN);
+      }
+    }
+    back_in[q].resize(halo.ghosts_to[q] * width * sizeof(double));
+  }
+  comm.exchange_known(back, back_in, &halo_traffic);
+  std::vector<std::size_t> read(ranks, 0);
+  for (std::size_t h = 0; h < halo.blocks.size(); ++h) {
+    if (halo.owner[h] == me) continue;
+    const auto q = static_cast<std::size_t>(halo.owner[h]);
+    const std::byte* src = back_in[q].data() + read[q];
+    read[q] += width * sizeof(double);
+    const std::size_t at = std::size_t{halo.blocks[h]} * BN;
+    for (int f = f0; f < f1; ++f) {
+      std::memcpy(F[static_cast<std::size_t>(f)]->data() + at,
+                  src + static_cast<std::size_t>(f - f0) * BN * sizeof(double),
+                  BN * sizeof(double));
+    }
+  }
 }
 
 }  // namespace shatter

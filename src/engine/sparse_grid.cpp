@@ -49,16 +49,18 @@ std::size_t SparseGrid::bytes() const {
 }
 
 bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
-                        std::span<const std::int64_t> bodies) {
+                        std::span<const std::int64_t> bodies, std::span<const std::int64_t> ids) {
   const std::size_t n = owner_keys.size();
   if (n == last_keys_.size() &&
       std::equal(owner_keys.begin(), owner_keys.end(), last_keys_.begin()) &&
       bodies.size() == last_bodies_.size() &&
-      std::equal(bodies.begin(), bodies.end(), last_bodies_.begin())) {
+      std::equal(bodies.begin(), bodies.end(), last_bodies_.begin()) &&
+      ids.size() == last_ids_.size() && std::equal(ids.begin(), ids.end(), last_ids_.begin())) {
     return false;
   }
   last_keys_.assign(owner_keys.begin(), owner_keys.end());
   last_bodies_.assign(bodies.begin(), bodies.end());
+  last_ids_.assign(ids.begin(), ids.end());
 
   // Owner blocks: particles are mostly block-sorted, so collecting the keys where the key changes
   // along the particle order gives a short list to sort.
@@ -120,6 +122,23 @@ bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
   particles_.resize(n);
   std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
   for (std::size_t p = 0; p < n; ++p) particles_[fill[owner_[p]]++] = static_cast<std::uint32_t>(p);
+  if (!ids.empty()) {
+    // Canonical order inside each block: (body, id). Bodies stay contiguous, so the runs that
+    // share a neighbour list (one per body where bodies meet) are the same as before.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t b = r.begin(); b < r.end(); ++b) {
+                          auto* first = particles_.data() + start_[b];
+                          auto* last = particles_.data() + start_[b + 1];
+                          std::sort(first, last, [&](std::uint32_t a, std::uint32_t c) {
+                            if (!bodies.empty() && bodies[a] != bodies[c]) {
+                              return bodies[a] < bodies[c];
+                            }
+                            return ids[a] < ids[c];
+                          });
+                        }
+                      });
+  }
 
   shared_ = nb;
   meetings_.clear();

@@ -1,5 +1,7 @@
 #include "shatter/io/checkpoint.hpp"
 
+#include <unordered_map>
+
 #include <algorithm>
 #include <stdexcept>
 #include <utility>
@@ -183,6 +185,42 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
 }
 
 void restore_columns(ParticleStore& live, const ParticleStore& saved) {
+  const bool by_id = live.has(IField::id) && saved.has(IField::id) &&
+                     live.groups().size() == saved.groups().size() &&
+                     !(live.size() == saved.size() &&
+                       std::equal(live.col(IField::id).begin(), live.col(IField::id).end(),
+                                  saved.col(IField::id).begin()));
+  if (by_id) {
+    // One rank's share of the checkpoint (docs/mpi.md): rows matched by particle id.
+    std::unordered_map<std::int64_t, std::size_t> row;
+    const auto sid = saved.col(IField::id);
+    row.reserve(sid.size());
+    for (std::size_t p = 0; p < sid.size(); ++p) row.emplace(sid[p], p);
+    const auto lid = live.col(IField::id);
+    std::vector<std::size_t> from(live.size());
+    for (std::size_t p = 0; p < live.size(); ++p) {
+      const auto it = row.find(lid[p]);
+      if (it == row.end()) throw std::logic_error("restore_columns: a particle id not saved");
+      from[p] = it->second;
+    }
+    for (std::size_t i = 0; i < kFieldCount; ++i) {
+      const auto f = static_cast<Field>(i);
+      if (!saved.has(f)) continue;
+      live.require(f);
+      const auto src = saved.col(f);
+      auto dst = live.col(f);
+      for (std::size_t p = 0; p < from.size(); ++p) dst[p] = src[from[p]];
+    }
+    for (std::size_t i = 0; i < kIFieldCount; ++i) {
+      const auto f = static_cast<IField>(i);
+      if (!saved.has(f)) continue;
+      live.require(f);
+      const auto src = saved.col(f);
+      auto dst = live.col(f);
+      for (std::size_t p = 0; p < from.size(); ++p) dst[p] = src[from[p]];
+    }
+    return;
+  }
   if (live.size() != saved.size() || live.groups().size() != saved.groups().size()) {
     throw std::logic_error("restore_columns: the stores hold different particles");
   }

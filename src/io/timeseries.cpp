@@ -109,16 +109,39 @@ void TimeSeriesWriter::write(const TimeSeriesRow& r) {
       r.wall);
 }
 
-Eigen::Vector3d total_momentum(const ParticleStore& store) {
+std::array<parallel::ExactSum, 3> momentum_sums(const ParticleStore& store) {
   const auto m = store.col(Field::mass);
   const auto vx = store.col(Field::vx);
   const auto vy = store.col(Field::vy);
   const auto vz = store.col(Field::vz);
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  std::array<parallel::ExactSum, 3> p;
   for (std::size_t i = 0; i < store.size(); ++i) {
-    p += m[i] * Eigen::Vector3d(vx[i], vy[i], vz[i]);
+    p[0].add(m[i] * vx[i]);
+    p[1].add(m[i] * vy[i]);
+    p[2].add(m[i] * vz[i]);
   }
   return p;
+}
+
+Eigen::Vector3d total_momentum(const ParticleStore& store) {
+  auto p = momentum_sums(store);
+  return {p[0].value(), p[1].value(), p[2].value()};
+}
+
+std::array<std::int64_t, 2> failure_counts(const ParticleStore& store, double threshold,
+                                           const std::vector<bool>& counted) {
+  std::array<std::int64_t, 2> c{0, 0};
+  if (!store.has(Field::damage)) return c;
+  const auto d = store.col(Field::damage);
+  const auto& groups = store.groups();
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (g >= counted.size() || !counted[g]) continue;
+    for (std::size_t p = groups[g].range.begin; p < groups[g].range.end; ++p) {
+      c[0] += d[p] >= threshold ? 1 : 0;
+    }
+    c[1] += static_cast<std::int64_t>(groups[g].range.size());
+  }
+  return c;
 }
 
 double failure_ratio(const ParticleStore& store, double threshold,

@@ -13,6 +13,7 @@
 #include "shatter/engine/config.hpp"
 #include "shatter/engine/energy.hpp"
 #include "shatter/material/material_model.hpp"
+#include "shatter/parallel/comm.hpp"
 
 namespace shatter {
 
@@ -52,6 +53,11 @@ class Simulation final : public Solver {
   // Total nodal mass of the last step's grid (Eq. 32); equals the particle mass to round-off.
   double grid_mass() const;
   const std::vector<StageTiming>& stage_timings() const override;
+  // Distributed runs (docs/mpi.md): this rank's traffic in the halo exchanges and in particle
+  // migration since the start, and how often the curve was recut for load balance.
+  parallel::Traffic halo_traffic() const;
+  parallel::Traffic migrate_traffic() const;
+  std::uint64_t rebalances() const;
 
   // Restores a checkpointed clock and energy accounts (particles come with the store).
   void restore(const Clock& clock, const EnergyBudget& energy) override;

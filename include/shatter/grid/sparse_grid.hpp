@@ -61,7 +61,13 @@ class SparseGrid {
   // per body, appended after the shared blocks, and each particle scatters to and gathers from
   // its own body's copies (particle_neighbours). Blocks reached by one body are shared as
   // before, so memory grows only where bodies meet, and with one body nothing changes.
-  bool assign(std::span<const std::uint64_t> owner_keys, std::span<const std::int64_t> bodies = {});
+  //
+  // `ids` (optional, one particle id per particle) makes the order inside each block's list
+  // canonical: by (body, id) instead of by store index. The node sums then depend only on which
+  // particles a block owns, not on where they sit in the store, so a run gives the same bits
+  // on any number of ranks, whatever order migrants arrive in (docs/mpi.md).
+  bool assign(std::span<const std::uint64_t> owner_keys, std::span<const std::int64_t> bodies = {},
+              std::span<const std::int64_t> ids = {});
 
   // All blocks, body copies included (node arrays span them all).
   std::size_t blocks() const { return coords_.size(); }
@@ -113,12 +119,19 @@ class SparseGrid {
 
   std::vector<std::uint64_t> last_keys_;
   std::vector<std::uint64_t> block_keys_;  // sorted
+
+ public:
+  // Keys of all blocks, sorted (the block index order).
+  std::span<const std::uint64_t> block_keys() const { return block_keys_; }
+
+ private:
   std::vector<Coord> coords_;
   std::unordered_map<std::uint64_t, std::uint32_t> index_;
   // 8 per shared block (valid for owner blocks), then 8 per (owner, body) of owners whose
   // stencils reach a block where bodies meet
   std::vector<std::uint32_t> neighbours_;
   std::vector<std::int64_t> last_bodies_;
+  std::vector<std::int64_t> last_ids_;
   std::array<std::vector<std::uint32_t>, kColours> colours_;
   std::vector<std::uint32_t> start_;      // CSR offsets per block
   std::vector<std::uint32_t> particles_;  // particle indices grouped by owner block

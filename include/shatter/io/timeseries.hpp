@@ -2,6 +2,7 @@
 // Time series of global quantities (energies, time step, momentum, failure ratio), one CSV row
 // per sample, units in the header.
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 
 #include "shatter/core/particles.hpp"
 #include "shatter/engine/energy.hpp"
+#include "shatter/parallel/exact_sum.hpp"
 
 namespace shatter::io {
 
@@ -48,7 +50,13 @@ class TimeSeriesWriter {
 };
 
 // Sum of m v over all particles (kg m/s).
+// Sum of m v, exact (parallel::ExactSum): the same bits in any particle order, so a gathered
+// or distributed store reports what one process does.
 Eigen::Vector3d total_momentum(const ParticleStore& store);
+std::array<parallel::ExactSum, 3> momentum_sums(const ParticleStore& store);
+// Failed and counted points (failure_ratio's numerator and denominator), to add over ranks.
+std::array<std::int64_t, 2> failure_counts(const ParticleStore& store, double threshold,
+                                           const std::vector<bool>& counted);
 
 // Fraction of the points of the flagged groups (`counted[g]` for group g) whose damage is at or
 // above `threshold` (MPM paper Fig. 5: failed = D >= 0.9). 0 when no group is flagged or the
