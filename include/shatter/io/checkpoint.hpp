@@ -56,7 +56,9 @@ void write_checkpoint(const std::filesystem::path& file, const ParticleStore& st
 // still read.
 Checkpoint read_checkpoint(const std::filesystem::path& file);
 
-// Copies every column of `saved` into `live` (same particles, same order). The Simulation
+// Copies every column of `saved` into `live`: row by row when both hold the same number of
+// particles (the order of the saved store is kept, which the SPH solver's sums depend on), by
+// particle id when `live` holds one MPI rank's share (docs/mpi.md). The Simulation
 // constructor re-initialises the constitutive state of the particles it is given (stress without
 // the artificial viscosity of the step that wrote it, sound speed, ...); a resumed run puts the
 // checkpointed values back so it continues bit for bit.
