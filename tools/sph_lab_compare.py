@@ -8,7 +8,7 @@ Per ensemble, mean +- sample std (and range) over its seeds of:
   10, 20, 40 and 100 us (linear interpolation);
   the largest fragment of the run's own catalogue (fragments.csv, the scene's fragment method:
   grid density by default), its mass over the target's mass (x 2 for a half model, as
-  tools/ensemble.py) and its speed, and how many runs have a core (its centre within
+  tools/ensemble.py), its speed and its centre's distance from the target centre, and how many runs have a core (its centre within
   --core-radius of the target centre, tools/ensemble.py's definition);
   with --fof, the largest fragment by BA95 Sec. 4.4 (friends-of-friends, one-layer damaged
   veneer) on each run's last snapshot through `shatter fragments`: for SPH runs friends within
@@ -57,18 +57,19 @@ def is_sph(run_dir):
 
 
 def largest_of(csv_path, core_radius_mm, denominator=None):
-    """(mass fraction, speed, is-core) of the largest fragment of a fragment table. The mass is
-    over `denominator` (kg) if given, else over the table's total mass."""
+    """(mass fraction, speed, centre's distance from the target centre in mm) of the largest
+    fragment of a fragment table. The mass is over `denominator` (kg) if given, else over the
+    table's total mass. The target centre is the origin, as in scenes/lab-impact.toml."""
     with open(csv_path) as fh:
         header = fh.readline()
         total = float(header.split("total_mass_kg=")[1].split()[0])
         rows = list(csv.DictReader(fh))
     if not rows:
-        return 0.0, float("nan"), False
+        return 0.0, float("nan"), float("nan")
     big = max(rows, key=lambda r: float(r["mass_kg"]))
     speed = float(np.linalg.norm([float(big[k]) for k in ("vx_m/s", "vy_m/s", "vz_m/s")]))
     offset = 1e3 * float(np.linalg.norm([float(big[k]) for k in ("x_m", "y_m", "z_m")]))
-    return float(big["mass_kg"]) / (denominator or total), speed, offset <= core_radius_mm
+    return float(big["mass_kg"]) / (denominator or total), speed, offset
 
 
 def own_catalogue(run_dir, core_radius_mm):
@@ -160,11 +161,11 @@ def main():
     if len(labels) != len(args.dirs):
         raise SystemExit("--labels needs one label per directory")
     head = ["ensemble", "runs"] + [f"failure {t:g} us" for t in TIMES_US]
-    head += ["largest m/M (own catalogue)", "its speed (m/s)", "cores"]
+    head += ["largest m/M (own catalogue)", "its speed (m/s)", "its centre off (mm)", "cores"]
     if args.fof:
         for s in args.static_strength:
             tag = "FoF" if s <= 0 else f"FoF, static {s / 1e6:g} MPa"
-            head += [f"{tag}: largest m/M", "its speed (m/s)", "cores"]
+            head += [f"{tag}: largest m/M", "its speed (m/s)", "its centre off (mm)", "cores"]
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for d, lab in zip(args.dirs, labels):
@@ -174,14 +175,16 @@ def main():
             cells.append(fmt([100.0 * failure_at(r, t) for r in runs], "{:.1f}%"))
         own = [own_catalogue(r, args.core_radius) for r in runs]
         cells += [fmt([m for m, _, _ in own], "{:.3f}"), fmt([v for _, v, _ in own], "{:.2f}"),
-                  f"{sum(c for _, _, c in own)}/{len(own)}"]
+                  fmt([o for _, _, o in own], "{:.1f}"),
+                  f"{sum(o <= args.core_radius for _, _, o in own)}/{len(own)}"]
         if args.fof:
             for s in args.static_strength:
                 res = [fof_largest(r, args.shatter, args.h_factor, s, args.core_radius)
                        for r in runs]
                 cells += [fmt([m for m, _, _ in res], "{:.3f}"),
                           fmt([v for _, v, _ in res], "{:.2f}"),
-                          f"{sum(c for _, _, c in res)}/{len(res)}"]
+                          fmt([o for _, _, o in res], "{:.1f}"),
+                          f"{sum(o <= args.core_radius for _, _, o in res)}/{len(res)}"]
         print("| " + " | ".join(cells) + " |")
     if args.plot_failure:
         plot_failure(args.dirs, labels, args.plot_failure)

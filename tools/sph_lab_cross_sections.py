@@ -52,8 +52,8 @@ def main():
             im = ax.scatter(u[~failed], v[~failed], c=d[~failed], s=1.5, cmap="inferno", vmin=0,
                             vmax=0.9, rasterized=True)
             ax.scatter(u[failed], v[failed], c="cyan", s=1.5, rasterized=True)
-            ax.set_title(f"{lab}, {t * 1e6:.0f} us ({100 * failed.mean():.0f} % of slice failed)",
-                         fontsize=8)
+            ax.set_title(f"{lab}, {t * 1e6:.0f} us: {100 * failed.mean():.0f} % of slice failed",
+                         fontsize=7)
             ax.set_aspect("equal")
             ax.set_xlim(-45, 45)
             ax.set_ylim(-45, 45)
