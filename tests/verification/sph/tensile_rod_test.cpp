@@ -16,6 +16,8 @@
 // to fail nucleates a crack; the points that fail within one spacing of its plane (|z - z_0| <
 // s) are that crack; in rings one spacing wide around the nucleus the earliest failure marks the
 // front, and the least-squares slope of the front's distance against its time is the speed.
+// A second estimator takes, per ring, the time half of the ring's rod points have failed (a
+// median, insensitive to early failures ahead of the tip) and fits the ring radius against it.
 
 #include <algorithm>
 #include <cmath>
