@@ -16,6 +16,8 @@
 // to fail nucleates a crack; the points that fail within one spacing of its plane (|z - z_0| <
 // s) are that crack; in rings one spacing wide around the nucleus the earliest failure marks the
 // front, and the least-squares slope of the front's distance against its time is the speed.
+// A second estimator takes, per ring, the time half of the ring's rod points have failed (a
+// median, insensitive to early failures ahead of the tip) and fits the ring radius against it.
 
 #include <algorithm>
 #include <cmath>
@@ -82,6 +84,10 @@ struct RodResult {
   std::size_t fragments = 0;     // holding >= 5 % of the rod's mass
   double largest = 0.0;          // largest fragment / rod mass
   double crack_speed = 0.0;      // m/s (NaN if fewer than 4 points in the first crack)
+  // Second estimator: per ring, the time by which half of the ring's rod points have failed
+  // (the crack's bulk, not its earliest failure); slope of ring radius against that time.
+  double crack_speed_half = 0.0;  // m/s (NaN if fewer than 3 rings are half failed)
+  std::size_t half_rings = 0;     // rings in that fit
   std::size_t crack_points = 0;
   double crack_r_max = 0.0;
 };
@@ -146,6 +152,7 @@ RodResult pull(double spacing, double eps_dot, double t_end, std::uint64_t seed,
   }
   r.failed_fraction = static_cast<double>(failed) / static_cast<double>(rod_points);
   r.crack_speed = std::nan("");
+  r.crack_speed_half = std::nan("");
   if (first < z0.size()) {
     r.failure_strain = eps_dot * t_fail[first];
     const std::size_t q = at[first];
@@ -170,20 +177,53 @@ RodResult pull(double spacing, double eps_dot, double t_end, std::uint64_t seed,
       r.crack_r_max = std::max(r.crack_r_max, rr);
       ++r.crack_points;
     }
-    double st = 0, sr = 0, stt = 0, str = 0;
-    std::size_t n = 0;
-    for (std::size_t k = 0; k < ring_t.size(); ++k) {
-      if (ring_t[k] < 0.0) continue;
-      st += ring_t[k];
-      sr += ring_r[k];
-      stt += ring_t[k] * ring_t[k];
-      str += ring_t[k] * ring_r[k];
-      ++n;
+    const auto slope = [](const std::vector<double>& t, const std::vector<double>& x) {
+      double st = 0, sx = 0, stt = 0, stx = 0;
+      std::size_t n = 0;
+      for (std::size_t k = 0; k < t.size(); ++k) {
+        if (t[k] < 0.0) continue;
+        st += t[k];
+        sx += x[k];
+        stt += t[k] * t[k];
+        stx += t[k] * x[k];
+        ++n;
+      }
+      const double dn = static_cast<double>(n);
+      return n >= 3 && stt * dn - st * st > 0.0 ? (stx * dn - st * sx) / (stt * dn - st * st)
+                                                : std::nan("");
+    };
+    r.crack_speed = slope(ring_t, ring_r);
+    // Second estimator: every rod point of the crack's band (failed or not) by ring; a ring's
+    // time is the median failure time of its points (unfailed points count as never), defined
+    // once at least half of them have failed; its radius the ring's mean radius. Earliest
+    // failures ahead of the tip (flaws the tip's stress opens early) do not move a median.
+    std::vector<std::vector<double>> ring_times;
+    std::vector<double> ring_sum_r;
+    for (std::size_t i = 0; i < z0.size(); ++i) {
+      const std::size_t p = at[i];
+      if (P.col(IField::body)[p] != rod || std::abs(z0[i] - z0[first]) >= spacing) continue;
+      const double dx = P.col(Field::x)[p] - x0, dy = P.col(Field::y)[p] - y0;
+      const double rr = std::sqrt(dx * dx + dy * dy);
+      const auto ring = static_cast<std::size_t>(rr / spacing);
+      if (ring >= ring_times.size()) {
+        ring_times.resize(ring + 1);
+        ring_sum_r.resize(ring + 1, 0.0);
+      }
+      ring_times[ring].push_back(t_fail[i] < 0.0 ? 1e300 : t_fail[i]);
+      ring_sum_r[ring] += rr;
     }
-    const double dn = static_cast<double>(n);
-    if (n >= 3 && stt * dn - st * st > 0.0) {
-      r.crack_speed = (str * dn - st * sr) / (stt * dn - st * st);
+    std::vector<double> half_t(ring_times.size(), -1.0), half_r(ring_times.size(), 0.0);
+    for (std::size_t k = 0; k < ring_times.size(); ++k) {
+      auto& ts = ring_times[k];
+      if (ts.size() < 4) continue;  // too few points for a median
+      std::sort(ts.begin(), ts.end());
+      const double med = ts[(ts.size() - 1) / 2];
+      if (med > 1e299) continue;  // less than half of the ring failed
+      half_t[k] = med;
+      half_r[k] = ring_sum_r[k] / static_cast<double>(ts.size());
+      ++r.half_rings;
     }
+    r.crack_speed_half = slope(half_t, half_r);
   }
 
   ParticleStore copy = P;
@@ -205,9 +245,11 @@ void print(const char* label, double eps_dot, const RodResult& r) {
   std::printf(
       "%s eps_dot %.3g/s: %zu rod points, %zu steps, first failure at strain %.3g, failed %.1f%%, "
       "%zu fragments >= 5%% of the rod, largest %.3f of all, first crack %zu points to r = %.1f "
-      "mm, speed %.0f m/s = %.2f c_g\n",
+      "mm, speed %.0f m/s = %.2f c_g (earliest per ring); %.2f c_g (half-failed time per ring, "
+      "%zu rings)\n",
       label, eps_dot, r.points, r.steps, r.failure_strain, 100.0 * r.failed_fraction, r.fragments,
-      r.largest, r.crack_points, 1e3 * r.crack_r_max, r.crack_speed, r.crack_speed / kCg);
+      r.largest, r.crack_points, 1e3 * r.crack_r_max, r.crack_speed, r.crack_speed / kCg,
+      r.crack_speed_half / kCg, r.half_rings);
 }
 
 // Weakest flaw of the explicit set: eps_1 = (1 / (k V))^(1/m), V = pi (1 cm)^2 4 cm:
@@ -264,9 +306,10 @@ TEST(SphTensileRod, DISABLED_Study) {
       std::printf(
           "ROD spacing=%g seed=%d rate=%g points=%zu steps=%zu eps_first=%.4g "
           "failed=%.4f fragments=%zu largest=%.4f crack_points=%zu crack_r=%.4g "
-          "crack_speed=%.1f cg=%.1f\n",
+          "crack_speed=%.1f crack_speed_half=%.1f half_rings=%zu cg=%.1f\n",
           spacing, seed, rate, r.points, r.steps, r.failure_strain, r.failed_fraction, r.fragments,
-          r.largest, r.crack_points, r.crack_r_max, r.crack_speed, kCg);
+          r.largest, r.crack_points, r.crack_r_max, r.crack_speed, r.crack_speed_half, r.half_rings,
+          kCg);
       std::fflush(stdout);
     }
   }
