@@ -79,9 +79,10 @@ void init(int* argc, char*** argv) {
   const char* n = std::getenv("OMPI_COMM_WORLD_SIZE");
   if (n == nullptr) n = std::getenv("PMI_SIZE");
   if (n != nullptr && std::atoi(n) > 1) {
-    std::fputs("shatter was built without MPI (SHATTER_MPI=OFF or no MPI found): run it without "
-               "mpirun, or rebuild with MPI (docs/mpi.md)\n",
-               stderr);
+    std::fputs(
+        "shatter was built without MPI (SHATTER_MPI=OFF or no MPI found): run it without "
+        "mpirun, or rebuild with MPI (docs/mpi.md)\n",
+        stderr);
     std::exit(2);
   }
 #endif
