@@ -34,12 +34,8 @@ import h5py
 import numpy as np
 
 
-def rotation(axis, degrees):
-    k = np.asarray(axis, float)
-    k = k / np.linalg.norm(k)
-    a = np.radians(degrees)
-    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(a) * kx + (1 - np.cos(a)) * kx @ kx
+# The turn of crack_orientation.py's second frame (Rodrigues), so both tools turn alike.
+from crack_orientation import rotation  # noqa: E402
 
 
 def body_id(f, name):
