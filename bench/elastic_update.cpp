@@ -20,7 +20,7 @@ void BM_VelocityGradient(benchmark::State& state) {
   ParticleStore& P = body.store;
   const SparseGrid& grid = body.grid;
   // dt = 1e-12: repeated density updates stay at rho0.
-  kernels::GradientParticles in = engine::gradient_inputs(P, 1.0 / bench::kCell, 1e-12);
+  kernels::GradientParticles in = mpm::gradient_inputs(P, 1.0 / bench::kCell, 1e-12);
   in.stencil = body.stencils(kernels::StencilCache::kLoad);
   tbb::task_arena arena(static_cast<int>(state.range(1)));
   arena.execute([&] {

@@ -20,7 +20,7 @@ void BM_G2P(benchmark::State& state) {
   const std::size_t n = P.size();
   AlignedVector<double> dx(n), dy(n), dz(n), kinetic(n), potential(n);
   kernels::G2PParticles in =
-      engine::g2p_inputs(P, 1.0 / bench::kCell, dx.data(), dy.data(), dz.data());
+      mpm::g2p_inputs(P, 1.0 / bench::kCell, dx.data(), dy.data(), dz.data());
   // Tiny steps so that repeated kicks leave the velocities where they are.
   in.dt_velocity = 1e-12;
   in.dt_position = 1e-12;

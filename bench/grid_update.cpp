@@ -8,7 +8,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
-#include "../src/engine/boundaries.hpp"
+#include "../src/mpm/boundaries.hpp"
 #include "support/stages.hpp"
 
 namespace {
@@ -29,7 +29,7 @@ void BM_GridUpdate(benchmark::State& state, bool walls) {
     domain.hi = Vec3::Constant(2.0);
     domain.faces.fill(BoundaryKind::slip);
   }
-  const engine::Boundaries boundaries(domain, bench::kCell);
+  const mpm::Boundaries boundaries(domain, bench::kCell);
   const Vec3 gravity(0.0, 0.0, -9.81);
   const double empty_mass = 1e-12 * body.store.col(Field::mass)[0];
   tbb::task_arena arena(static_cast<int>(state.range(1)));
@@ -38,7 +38,7 @@ void BM_GridUpdate(benchmark::State& state, bool walls) {
       state.PauseTiming();
       grid.nodes() = scattered;
       state.ResumeTiming();
-      boundaries.mirror(grid, engine::Boundaries::kMassMomentumForce);
+      boundaries.mirror(grid, mpm::Boundaries::kMassMomentumForce);
       benchmark::DoNotOptimize(boundaries.integrate(grid, gravity, 1e-7, empty_mass));
       benchmark::ClobberMemory();
     }

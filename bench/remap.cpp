@@ -4,7 +4,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
-#include "../src/engine/boundaries.hpp"  // engine-internal: the real nodal pass, not a copy
+#include "../src/mpm/boundaries.hpp"  // engine-internal: the real nodal pass, not a copy
 #include "support/stages.hpp"
 
 namespace {
@@ -17,12 +17,12 @@ void BM_Remap(benchmark::State& state) {
   auto in = bench::p2g_inputs(body.store, false);
   in.stencil = body.stencils(kernels::StencilCache::kLoad);  // as the engine's remap
   tbb::task_arena arena(static_cast<int>(state.range(1)));
-  const engine::Boundaries boundaries(Domain{}, bench::kCell);
+  const mpm::Boundaries boundaries(Domain{}, bench::kCell);
   const double empty_mass = 1e-12 * body.store.col(Field::mass)[0];
   arena.execute([&] {
     for (auto _ : state) {
       bench::scatter<Shape, false>(in, body.grid);
-      boundaries.mirror(body.grid, engine::Boundaries::kMomentum);
+      boundaries.mirror(body.grid, mpm::Boundaries::kMomentum);
       benchmark::DoNotOptimize(boundaries.velocities(body.grid, empty_mass));
       benchmark::ClobberMemory();
     }

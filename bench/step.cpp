@@ -26,7 +26,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
 #include "support/bodies.hpp"
 

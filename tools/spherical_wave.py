@@ -427,7 +427,7 @@ def lab_table(run_dir, cone, window, out):
 
 def study_plot(prefix, cells, out):
     """Shell-mean profiles written by the test's convergence study (SPHERICAL_WAVE_CSV=prefix,
-    tests/verification/engine/spherical_wave_test.cpp) against the exact solution."""
+    tests/verification/mpm/spherical_wave_test.cpp) against the exact solution."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -21,7 +21,7 @@
 
 #include "mpm/shape.hpp"
 #include "shatter/core/particles.hpp"
-#include "shatter/engine/config.hpp"
+#include "shatter/core/config.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 
 namespace shatter::bench {

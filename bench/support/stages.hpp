@@ -1,6 +1,6 @@
 #pragma once
 // The engine's stage loops over the kernels of kernels/mpm, written as Simulation::Impl runs
-// them (src/engine/simulation.cpp: same grains, same colour-by-colour scatter), so that a stage
+// them (src/mpm/simulation.cpp: same grains, same colour-by-colour scatter), so that a stage
 // can be timed alone on a prepared SparseGrid.
 
 #include <cstddef>
@@ -10,7 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "../../src/engine/kernel_inputs.hpp"  // engine-internal: the engine's input set-up
+#include "../../src/mpm/kernel_inputs.hpp"  // engine-internal: the engine's input set-up
 #include "bodies.hpp"
 #include "mpm/g2p.hpp"
 #include "mpm/p2g.hpp"
@@ -20,9 +20,9 @@ namespace shatter::bench {
 
 inline constexpr std::size_t kParticleGrain = 2048;  // as the engine
 
-// The engine's own input set-up (src/engine/kernel_inputs.hpp), at the bench's cell size.
+// The engine's own input set-up (src/mpm/kernel_inputs.hpp), at the bench's cell size.
 inline kernels::P2GParticles p2g_inputs(ParticleStore& P, bool with_force) {
-  return engine::p2g_inputs(P, 1.0 / kCell, with_force);
+  return mpm::p2g_inputs(P, 1.0 / kCell, with_force);
 }
 
 // P2G (kForce) or the MUSL remap's momentum-only scatter (!kForce), as Simulation::Impl::p2g.

@@ -15,8 +15,8 @@
 #include <limits>
 
 #include "shatter/core/particles.hpp"
-#include "shatter/engine/energy.hpp"
-#include "shatter/engine/simulation.hpp"
+#include "shatter/core/energy.hpp"
+#include "shatter/mpm/simulation.hpp"
 
 namespace shatter::cli {
 

@@ -16,7 +16,7 @@
 #include "fragments_report.hpp"
 #include "progress.hpp"
 #include "progress_guard.hpp"
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/io/columns.hpp"
 #include "shatter/io/snapshot.hpp"
 #include "shatter/io/timeseries.hpp"

@@ -1,6 +1,6 @@
 #include <fmt/format.h>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/scene/build.hpp"
 #include "shatter/sph/solver.hpp"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "shatter/core/particles.hpp"
-#include "shatter/engine/config.hpp"
+#include "shatter/core/config.hpp"
 
 namespace shatter::verification::detail {
 

@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
 #include "shatter/verification/neo_hookean.hpp"
 #include "verification/column.hpp"

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "eos/tillotson.hpp"
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"

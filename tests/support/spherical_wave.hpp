@@ -1,7 +1,7 @@
 #pragma once
 // The spherically diverging elastic wave of docs/verification.md ("Spherical elastic wave"): its
 // exact solution, the octant's initial state and the error measures, shared by the MPM test
-// (tests/verification/engine/spherical_wave_test.cpp, which derives the solution) and the SPH test
+// (tests/verification/mpm/spherical_wave_test.cpp, which derives the solution) and the SPH test
 // (tests/verification/sph/spherical_wave_test.cpp), so that both methods are measured by the same
 // code and only the solver differs. "h" is the MPM cell a / cells_per_a; the points sit
 // 2 x 2 x 2 per cell (spacing h / 2) in the octant of a ball of radius 4 a.
@@ -18,7 +18,7 @@
 #include <Eigen/Geometry>
 
 #include "shatter/core/particles.hpp"
-#include "shatter/engine/config.hpp"
+#include "shatter/core/config.hpp"
 #include "support/lattice.hpp"
 
 namespace shatter::test::spherical_wave {

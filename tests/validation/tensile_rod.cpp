@@ -17,7 +17,7 @@
 #include <memory>
 #include <vector>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/fracture/flaws.hpp"
 #include "shatter/fracture/fragments.hpp"
 #include "shatter/material/catalogue.hpp"

@@ -24,7 +24,7 @@
 #include <tuple>
 #include <vector>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/catalogue.hpp"
 #include "shatter/material/probe.hpp"
 #include "shatter/scene/build.hpp"

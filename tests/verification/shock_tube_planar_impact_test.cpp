@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/catalogue.hpp"
 #include "shatter/material/probe.hpp"
 #include "support/lattice.hpp"

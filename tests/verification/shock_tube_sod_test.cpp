@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/catalogue.hpp"
 #include "support/lattice.hpp"
 

@@ -1,7 +1,7 @@
 #pragma once
 // Solver: what the run loop (src/cli/run_loop.cpp), checkpoints and resume need from a method.
 // Two methods implement it on the same particle store and material library (DESIGN.md
-// "Layout"): the MPM Simulation (include/shatter/engine/simulation.hpp) and the SPH solver
+// "Layout"): the MPM Simulation (include/shatter/mpm/simulation.hpp) and the SPH solver
 // (include/shatter/sph/solver.hpp). A scene picks one with solver.method; the run loop never
 // knows which. One virtual call per step, never per particle.
 
@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "shatter/core/particles.hpp"
-#include "shatter/engine/config.hpp"
-#include "shatter/engine/energy.hpp"
+#include "shatter/core/config.hpp"
+#include "shatter/core/energy.hpp"
 
 namespace shatter {
 

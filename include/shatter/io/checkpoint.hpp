@@ -12,8 +12,8 @@
 #include <string_view>
 
 #include "shatter/core/particles.hpp"
-#include "shatter/engine/energy.hpp"
-#include "shatter/engine/simulation.hpp"
+#include "shatter/core/energy.hpp"
+#include "shatter/mpm/simulation.hpp"
 
 namespace shatter::io {
 

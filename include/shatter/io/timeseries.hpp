@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 
 #include "shatter/core/particles.hpp"
-#include "shatter/engine/energy.hpp"
+#include "shatter/core/energy.hpp"
 #include "shatter/parallel/exact_sum.hpp"
 
 namespace shatter::io {

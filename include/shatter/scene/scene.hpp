@@ -26,7 +26,7 @@
 #include <string_view>
 #include <vector>
 
-#include "shatter/engine/config.hpp"
+#include "shatter/core/config.hpp"
 #include "shatter/fracture/flaws.hpp"
 #include "shatter/fracture/fragments.hpp"
 #include "shatter/material/catalogue.hpp"

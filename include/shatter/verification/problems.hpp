@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <span>
 
-#include "shatter/engine/config.hpp"
+#include "shatter/core/config.hpp"
 
 namespace shatter::verification {
 

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "../io/scratch_dir.hpp"
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/io/checkpoint.hpp"
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"

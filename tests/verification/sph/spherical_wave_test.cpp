@@ -1,6 +1,6 @@
 // Spherically diverging elastic wave with SPH against its exact solution (issue 10, Validation
 // "Elastic waves"; docs/validation-sph.md). The same problem, exact solution, octant set-up and
-// error measures as the MPM test tests/verification/engine/spherical_wave_test.cpp (derivation
+// error measures as the MPM test tests/verification/mpm/spherical_wave_test.cpp (derivation
 // there and in tools/spherical_wave.py), so the two methods' numbers stand side by side: only
 // the solver differs. "h" below is the MPM cell size of that test, a / cells_per_a, and the
 // points sit 2 x 2 x 2 per cell (spacing h / 2), so a/h means the same number of points in both;

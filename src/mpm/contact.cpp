@@ -1,4 +1,4 @@
-#include "engine/contact.hpp"
+#include "mpm/contact.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
-namespace shatter::engine {
+namespace shatter::mpm {
 namespace {
 
 // Pairs where one body's nodal mass is below this fraction of the other's are not corrected.
@@ -155,4 +155,4 @@ double Contact::resolve(SparseGrid& grid, const Boundaries& bc, double dt,
       std::plus<>());
 }
 
-}  // namespace shatter::engine
+}  // namespace shatter::mpm

@@ -8,7 +8,7 @@
 #include "mpm/velocity_gradient.hpp"
 #include "shatter/core/particles.hpp"
 
-namespace shatter::engine {
+namespace shatter::mpm {
 
 // P2G (Eqs. 28-33). with_force: the stress columns too (the force-carrying scatter of step 1);
 // without: mass and momentum only (the MUSL remap, step 6). Body forces and the APIC affine
@@ -77,4 +77,4 @@ inline kernels::GradientParticles gradient_inputs(ParticleStore& P, double inv_h
   return in;
 }
 
-}  // namespace shatter::engine
+}  // namespace shatter::mpm

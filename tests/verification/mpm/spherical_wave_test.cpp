@@ -39,7 +39,7 @@
 #include <string>
 #include <vector>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
 #include "support/lattice.hpp"
 #include "support/spherical_wave.hpp"

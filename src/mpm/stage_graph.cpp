@@ -1,8 +1,8 @@
-#include "engine/stage_graph.hpp"
+#include "mpm/stage_graph.hpp"
 
 #include <exception>
 
-namespace shatter::engine {
+namespace shatter::mpm {
 
 void StageGraph::build() {
   graph_ = std::make_unique<tbb::flow::graph>();
@@ -51,4 +51,4 @@ void StageGraph::run() {
   }
 }
 
-}  // namespace shatter::engine
+}  // namespace shatter::mpm

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "mpm/shape.hpp"
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
 #include "support/lattice.hpp"
 

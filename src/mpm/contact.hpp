@@ -13,11 +13,11 @@
 #include <cstdint>
 #include <unordered_map>
 
-#include "engine/boundaries.hpp"
-#include "shatter/engine/config.hpp"
+#include "mpm/boundaries.hpp"
+#include "shatter/core/config.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 
-namespace shatter::engine {
+namespace shatter::mpm {
 
 class Contact {
  public:
@@ -50,4 +50,4 @@ class Contact {
   std::unordered_map<std::uint64_t, double> pairs_;
 };
 
-}  // namespace shatter::engine
+}  // namespace shatter::mpm

@@ -1,4 +1,4 @@
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,10 +15,10 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
-#include "engine/boundaries.hpp"
-#include "engine/contact.hpp"
-#include "engine/kernel_inputs.hpp"
-#include "engine/stage_graph.hpp"
+#include "mpm/boundaries.hpp"
+#include "mpm/contact.hpp"
+#include "mpm/kernel_inputs.hpp"
+#include "mpm/stage_graph.hpp"
 #include "shatter/core/solver_inputs.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 #include "shatter/parallel/decomposition.hpp"
@@ -27,8 +27,8 @@
 namespace shatter {
 namespace {
 
-using engine::Access;
-using engine::Resource;
+using mpm::Access;
+using mpm::Resource;
 
 // Grain sizes are fixed (never derived from the thread count) so that every reduction splits
 // the same way, and sums come out bitwise identical with 1 or N threads.
@@ -178,7 +178,7 @@ struct Simulation::Impl {
   std::string failure;  // a numerical failure of this rank in this step (distributed runs)
   std::size_t failure_particle = 0;
   SparseGrid grid;
-  engine::StageGraph graph;
+  mpm::StageGraph graph;
   tbb::task_arena arena;
   std::vector<std::uint64_t> owner_keys;
   std::vector<std::uint32_t> order;
@@ -188,10 +188,10 @@ struct Simulation::Impl {
   // every transfer of the step (kernels::StencilCache).
   AlignedVector<double> stencil_w;
   std::vector<std::uint8_t> stencil_off;
-  engine::Boundaries boundaries;
+  mpm::Boundaries boundaries;
   // Multi-velocity-field contact: set only when the scene asks for it and has two bodies or
   // more; otherwise the step is the single-field step, bitwise.
-  std::unique_ptr<engine::Contact> contact;
+  std::unique_ptr<mpm::Contact> contact;
   std::vector<double> step4_velocity;  // body-copy node velocities kept through the remap
   // XPIC (TransferKind::xpic): v^{n+1} kept aside while the grid momentum arrays hold the extra
   // passes, the running (S+ S)^{k-1} term, the filtered velocity V*_m + a dt handed to G2P, and
@@ -336,7 +336,7 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
           fmt::format("solver: contact friction must be finite and >= 0, got {}", cc.friction));
     }
     for (const ContactPair& pr : cc.pairs) {
-      constexpr std::int64_t kMaxId = std::int64_t{1} << 32;  // engine::Contact's pair key
+      constexpr std::int64_t kMaxId = std::int64_t{1} << 32;  // mpm::Contact's pair key
       if (!(pr.friction >= 0.0 && std::isfinite(pr.friction)) || pr.a < 0 || pr.b < 0 ||
           pr.a >= kMaxId || pr.b >= kMaxId || pr.a == pr.b) {
         throw std::invalid_argument(fmt::format(
@@ -353,7 +353,7 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
             fmt::format("particle {} has body id {} (multi-field contact needs ids >= 0)",
                         lo - body.begin(), *lo));
       }
-      if (*lo != *hi) impl_->contact = std::make_unique<engine::Contact>(cc);
+      if (*lo != *hi) impl_->contact = std::make_unique<mpm::Contact>(cc);
     }
   }
   const auto masses = particles_.col(Field::mass);
@@ -689,7 +689,7 @@ void Simulation::Impl::compute_keys() {
 template <class Shape>
 void Simulation::Impl::p2g(bool with_force, double* const* velocity) {
   ParticleStore& P = sim.particles_;
-  kernels::P2GParticles in = engine::p2g_inputs(P, inv_h(), with_force);
+  kernels::P2GParticles in = mpm::p2g_inputs(P, inv_h(), with_force);
   if (velocity != nullptr) {
     in.vx = velocity[0];
     in.vy = velocity[1];
@@ -789,7 +789,7 @@ void Simulation::Impl::grid_update() {
   const Clock& clk = sim.clock_;
   const double dt_kick = 0.5 * (clk.dt_prev + dt_step);  // leapfrog dt^n (Fig. 16)
   // (several ranks: the owners mirrored the halo blocks, halo_reduce)
-  if (!dist) boundaries.mirror(grid, engine::Boundaries::kMassMomentumForce);
+  if (!dist) boundaries.mirror(grid, mpm::Boundaries::kMassMomentumForce);
   boundaries.integrate(grid, sim.config_.gravity, dt_kick, empty_mass, dist ? &halo.owned : nullptr,
                        &removed_sum);
   if (grid.has_copies()) {
@@ -869,7 +869,7 @@ void Simulation::Impl::xpic() {
       xpic_target[d][i] = (md - 1.0) * vl;
     }
   });
-  kernels::G2PParticles in = engine::g2p_inputs(P, inv_h(), nullptr, nullptr, nullptr);
+  kernels::G2PParticles in = mpm::g2p_inputs(P, inv_h(), nullptr, nullptr, nullptr);
   in.stencil = stencils(kernels::StencilCache::kLoad);
   double* w[3] = {xpic_w[0].data(), xpic_w[1].data(), xpic_w[2].data()};
   for (int k = 2; k <= m; ++k) {
@@ -883,7 +883,7 @@ void Simulation::Impl::xpic() {
                         }
                       });
     p2g<Shape>(false, w);
-    if (!dist) boundaries.mirror(grid, engine::Boundaries::kMomentum);
+    if (!dist) boundaries.mirror(grid, mpm::Boundaries::kMomentum);
     boundaries.velocities(grid, empty_mass);
     const double ratio = static_cast<double>(m - k + 1) / static_cast<double>(k);
     const double sign = k % 2 == 0 ? -1.0 : 1.0;  // (-1)^{k+1}
@@ -904,7 +904,7 @@ void Simulation::Impl::xpic() {
 template <class Shape>
 void Simulation::Impl::g2p() {
   ParticleStore& P = sim.particles_;
-  kernels::G2PParticles in = engine::g2p_inputs(P, inv_h(), dx.data(), dy.data(), dz.data());
+  kernels::G2PParticles in = mpm::g2p_inputs(P, inv_h(), dx.data(), dy.data(), dz.data());
   in.stencil = stencils(kernels::StencilCache::kLoad);
   in.dt_velocity = 0.5 * (sim.clock_.dt_prev + dt_step);
   in.dt_position = dt_step;
@@ -955,7 +955,7 @@ void Simulation::Impl::remap() {
     std::copy(N.pz.begin() + static_cast<std::ptrdiff_t>(g0), N.pz.end(), at + 2 * n);
   }
   p2g<Shape>(false);
-  if (!dist) boundaries.mirror(grid, engine::Boundaries::kMomentum);
+  if (!dist) boundaries.mirror(grid, mpm::Boundaries::kMomentum);
   // The remapped velocities only feed the strain rate (MUSL); no particle velocity changes here.
   boundaries.velocities(grid, empty_mass);
   if (contact_nodes) {
@@ -970,7 +970,7 @@ void Simulation::Impl::remap() {
 template <class Shape>
 void Simulation::Impl::velocity_gradient() {
   ParticleStore& P = sim.particles_;
-  kernels::GradientParticles in = engine::gradient_inputs(P, inv_h(), dt_step);
+  kernels::GradientParticles in = mpm::gradient_inputs(P, inv_h(), dt_step);
   in.stencil = stencils(kernels::StencilCache::kLoad);
   if (sim.config_.transfer == TransferKind::apic) vgrad_columns(P, in.vgrad);
   for_each_run<kernels::GradientWindow>(
@@ -1526,8 +1526,8 @@ void Simulation::Impl::halo_reduce(int fields) {
     } blocks{*this, targets, index, temp, f0, {}};
     blocks.coords.resize(targets.size());
     for (const auto& [k, i] : index) blocks.coords[i] = decode_key(k);
-    boundaries.mirror_blocks(blocks, fields == kForceFields ? engine::Boundaries::kMassMomentumForce
-                                                            : engine::Boundaries::kMomentum);
+    boundaries.mirror_blocks(blocks, fields == kForceFields ? mpm::Boundaries::kMassMomentumForce
+                                                            : mpm::Boundaries::kMomentum);
   }
   // 3. the sums back to the ranks that sent partials, in the order they sent them
   std::vector<parallel::Bytes> back(ranks), back_in(ranks);

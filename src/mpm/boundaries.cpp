@@ -1,4 +1,4 @@
-#include "engine/boundaries.hpp"
+#include "mpm/boundaries.hpp"
 
 #include "shatter/parallel/exact_sum.hpp"
 
@@ -9,7 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
-namespace shatter::engine {
+namespace shatter::mpm {
 namespace {
 
 constexpr const char* kFaceNames[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
@@ -278,4 +278,4 @@ double Boundaries::velocities(SparseGrid& grid, double empty_mass,
       .value();
 }
 
-}  // namespace shatter::engine
+}  // namespace shatter::mpm

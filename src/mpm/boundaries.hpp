@@ -8,11 +8,11 @@
 #include <span>
 #include <vector>
 
-#include "shatter/engine/config.hpp"
+#include "shatter/core/config.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 #include "shatter/parallel/exact_sum.hpp"
 
-namespace shatter::engine {
+namespace shatter::mpm {
 
 class Boundaries {
  public:
@@ -142,4 +142,4 @@ void Boundaries::mirror_blocks(Blocks& blocks, MirrorMode mode) const {
   }
 }
 
-}  // namespace shatter::engine
+}  // namespace shatter::mpm

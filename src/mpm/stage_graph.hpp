@@ -18,9 +18,9 @@
 #include <tbb/flow_graph.h>
 
 #include "shatter/core/fields.hpp"
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 
-namespace shatter::engine {
+namespace shatter::mpm {
 
 // Engine data that is not a particle column.
 enum Resource : std::uint32_t {
@@ -67,4 +67,4 @@ class StageGraph {
   std::atomic<bool> failed_{false};
 };
 
-}  // namespace shatter::engine
+}  // namespace shatter::mpm

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <memory>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 using namespace shatter;

@@ -4,7 +4,7 @@
 
 #include <memory>
 
-#include "shatter/engine/simulation.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
 #include "support/lattice.hpp"
 
