@@ -26,8 +26,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/bodies.hpp"
 
 namespace {

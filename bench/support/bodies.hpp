@@ -20,8 +20,8 @@
 #include <tbb/parallel_for.h>
 
 #include "mpm/shape.hpp"
-#include "shatter/core/particles.hpp"
 #include "shatter/core/config.hpp"
+#include "shatter/core/particles.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 
 namespace shatter::bench {

@@ -14,8 +14,8 @@
 
 #include <limits>
 
-#include "shatter/core/particles.hpp"
 #include "shatter/core/energy.hpp"
+#include "shatter/core/particles.hpp"
 #include "shatter/mpm/simulation.hpp"
 
 namespace shatter::cli {

@@ -16,11 +16,11 @@
 #include "fragments_report.hpp"
 #include "progress.hpp"
 #include "progress_guard.hpp"
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/io/columns.hpp"
 #include "shatter/io/snapshot.hpp"
 #include "shatter/io/timeseries.hpp"
 #include "shatter/io/xdmf.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/parallel/comm.hpp"
 #include "shatter/parallel/decomposition.hpp"
 

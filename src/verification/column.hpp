@@ -8,8 +8,8 @@
 #include <functional>
 #include <vector>
 
-#include "shatter/core/particles.hpp"
 #include "shatter/core/config.hpp"
+#include "shatter/core/particles.hpp"
 
 namespace shatter::verification::detail {
 

@@ -9,8 +9,8 @@
 
 #include <fmt/format.h>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/verification/neo_hookean.hpp"
 #include "verification/column.hpp"
 

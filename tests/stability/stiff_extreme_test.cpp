@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "eos/tillotson.hpp"
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/grid/sparse_grid.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"
 

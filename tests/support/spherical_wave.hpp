@@ -17,8 +17,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "shatter/core/particles.hpp"
 #include "shatter/core/config.hpp"
+#include "shatter/core/particles.hpp"
 #include "support/lattice.hpp"
 
 namespace shatter::test::spherical_wave {

@@ -17,10 +17,10 @@
 #include <memory>
 #include <vector>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/fracture/flaws.hpp"
 #include "shatter/fracture/fragments.hpp"
 #include "shatter/material/catalogue.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 using namespace shatter;

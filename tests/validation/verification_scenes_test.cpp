@@ -24,9 +24,9 @@
 #include <tuple>
 #include <vector>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/catalogue.hpp"
 #include "shatter/material/probe.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"
 

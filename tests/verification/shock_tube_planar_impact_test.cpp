@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/catalogue.hpp"
 #include "shatter/material/probe.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 namespace shatter {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/catalogue.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 namespace shatter {

@@ -11,9 +11,9 @@
 #include <string_view>
 #include <vector>
 
-#include "shatter/core/particles.hpp"
 #include "shatter/core/config.hpp"
 #include "shatter/core/energy.hpp"
+#include "shatter/core/particles.hpp"
 
 namespace shatter {
 

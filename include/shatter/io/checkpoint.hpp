@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "shatter/core/particles.hpp"
 #include "shatter/core/energy.hpp"
+#include "shatter/core/particles.hpp"
 #include "shatter/mpm/simulation.hpp"
 
 namespace shatter::io {

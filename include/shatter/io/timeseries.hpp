@@ -10,8 +10,8 @@
 
 #include <Eigen/Core>
 
-#include "shatter/core/particles.hpp"
 #include "shatter/core/energy.hpp"
+#include "shatter/core/particles.hpp"
 #include "shatter/parallel/exact_sum.hpp"
 
 namespace shatter::io {

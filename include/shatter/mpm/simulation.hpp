@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "shatter/core/particles.hpp"
-#include "shatter/core/solver.hpp"
 #include "shatter/core/config.hpp"
 #include "shatter/core/energy.hpp"
+#include "shatter/core/particles.hpp"
+#include "shatter/core/solver.hpp"
 #include "shatter/material/material_model.hpp"
 #include "shatter/parallel/comm.hpp"
 

@@ -2,9 +2,9 @@
 
 #include <memory>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 #include "shatter/material/linear_elastic.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 using namespace shatter;

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "../io/scratch_dir.hpp"
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/io/checkpoint.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"
 

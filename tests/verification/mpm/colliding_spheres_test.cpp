@@ -6,8 +6,8 @@
 #include <string>
 #include <tuple>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 using namespace shatter;

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 using namespace shatter;

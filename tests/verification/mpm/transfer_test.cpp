@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "mpm/shape.hpp"
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 using namespace shatter;

@@ -5,8 +5,8 @@
 
 #include <memory>
 
-#include "shatter/mpm/simulation.hpp"
 #include "shatter/material/linear_elastic.hpp"
+#include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
 
 using namespace shatter;
