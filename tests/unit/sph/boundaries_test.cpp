@@ -12,35 +12,17 @@
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"
 #include "shatter/sph/solver.hpp"
+#include "support/sph_impact.hpp"
 
 namespace shatter::sph {
 namespace {
 
 const std::string kVerificationDir = std::string(SHATTER_SOURCE_DIR) + "/scenes/verification";
 
-// A basalt sphere (Tillotson, linear hardening; no damage, so no random flaws that would differ
-// between the half and the full body) hit by nylon at 3.2 km/s, 30 degrees, in the plane z = 0:
-// shocks, plasticity and a strongly asymmetric flow in the impact plane. 2 mm spacing.
-const char* kImpact = R"(
-[solver]
-method = "sph"
-cell_size = 4.0e-3
-end_time = 1.0
-[body.target]
-shape = "sphere"
-centre = [0.0, 0.0, 0.0]
-radius = 0.012
-material = "basalt"
-[body.projectile]
-shape = "sphere"
-radius = 4.0e-3
-material = "nylon"
-[impact]
-projectile = "projectile"
-target = "target"
-speed = 3200.0
-angle = 30.0
-)";
+// The shared small impact (tests/support/sph_impact.hpp) without damage, so no random flaws
+// that would differ between the half and the full body: shocks, plasticity and a strongly
+// asymmetric flow in the impact plane z = 0.
+const std::string kImpact = test::sph_impact_scene({});
 
 std::unique_ptr<Solver> make(const scene::Scene& s, int threads) {
   scene::BuiltScene b = scene::build(s);

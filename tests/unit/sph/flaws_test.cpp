@@ -15,37 +15,13 @@
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"
 #include "shatter/sph/solver.hpp"
+#include "support/sph_impact.hpp"
 
 namespace shatter::sph {
 namespace {
 
-// The basalt sphere of the solver tests (12 mm radius, 2 mm spacing, ~900 points, Tillotson,
-// linear hardening) with BA95's explicit flaws (explicit_flaws = 1), hit by nylon at 3.2 km/s.
-const char* kImpact = R"(
-[solver]
-method = "sph"
-cell_size = 4.0e-3
-end_time = 1.0
-[body.target]
-shape = "sphere"
-centre = [0.0, 0.0, 0.0]
-radius = 0.012
-material = "basalt"
-[body.target.damage]
-model = "grady_kipp"
-weibull_m = 8.5
-weibull_k = 3.0e39
-explicit_flaws = 1
-[body.projectile]
-shape = "sphere"
-radius = 4.0e-3
-material = "nylon"
-[impact]
-projectile = "projectile"
-target = "target"
-speed = 3200.0
-angle = 30.0
-)";
+// The solver tests' impact (tests/support/sph_impact.hpp) with BA95's explicit flaws.
+const std::string kImpact = test::sph_impact_scene({.flaws = "explicit_flaws = 1\n"});
 
 constexpr double kM = 8.5;
 constexpr double kK = 3.0e39;  // m^-3

@@ -12,6 +12,7 @@
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"
 #include "shatter/sph/solver.hpp"
+#include "support/sph_impact.hpp"
 
 namespace shatter::sph {
 namespace {
@@ -131,36 +132,12 @@ TEST(SphFragments, RefusesAStoreWithoutDensity) {
   }
 }
 
-// The lab-impact-like scene of solver_test.cpp, small: basalt with Grady-Kipp damage and flaws.
-const char* kImpact = R"(
-[solver]
-method = "sph"
-cell_size = 4.0e-3
-end_time = 1.0
-symmetry_plane = "z"
-[body.target]
-shape = "sphere"
-centre = [0.0, 0.0, 0.0]
-radius = 0.012
-material = "basalt"
-[body.target.damage]
-model = "grady_kipp"
-weibull_m = 8.5
-weibull_k = 3.0e39
-total_flaws = 1.0e9
-[body.projectile]
-shape = "sphere"
-radius = 4.0e-3
-material = "nylon"
-[impact]
-projectile = "projectile"
-target = "target"
-speed = 3200.0
-angle = 30.0
-[fracture]
-fragment_method = "friends_of_friends"
-static_strength = 10.0e6
-)";
+// The shared small impact (tests/support/sph_impact.hpp) as a half model, with damage and
+// BA95's fragment search.
+const std::string kImpact = test::sph_impact_scene(
+    {.solver = "symmetry_plane = \"z\"\n",
+     .flaws = "total_flaws = 1.0e9\n",
+     .tables = "[fracture]\nfragment_method = \"friends_of_friends\"\nstatic_strength = 10.0e6\n"});
 
 TEST(SphFragments, SceneSelectsTheSmoothingLengthLinkAndACatalogueOfAnSphRunAddsUp) {
   const scene::Scene s = scene::parse_scene(kImpact, "impact.toml");

@@ -12,6 +12,7 @@
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"
 #include "shatter/sph/solver.hpp"
+#include "support/sph_impact.hpp"
 
 namespace shatter::sph {
 namespace {
@@ -40,33 +41,9 @@ material = "sphere_elastic"
 velocity = [-0.1, -0.1, -0.1]
 )";
 
-// A basalt sphere (Tillotson, linear hardening, Grady-Kipp damage with explicit flaws) hit by
-// nylon at 3.2 km/s, 30 degrees: shocks, plasticity and damage in a few dozen steps.
-const char* kImpact = R"(
-[solver]
-method = "sph"
-cell_size = 4.0e-3
-end_time = 1.0
-[body.target]
-shape = "sphere"
-centre = [0.0, 0.0, 0.0]
-radius = 0.012
-material = "basalt"
-[body.target.damage]
-model = "grady_kipp"
-weibull_m = 8.5
-weibull_k = 3.0e39
-total_flaws = 1.0e9
-[body.projectile]
-shape = "sphere"
-radius = 4.0e-3
-material = "nylon"
-[impact]
-projectile = "projectile"
-target = "target"
-speed = 3200.0
-angle = 30.0
-)";
+// The shared small impact (tests/support/sph_impact.hpp), Grady-Kipp damage with the
+// resolution-independent flaws.
+const std::string kImpact = test::sph_impact_scene({.flaws = "total_flaws = 1.0e9\n"});
 
 std::unique_ptr<Solver> make(const scene::Scene& s, int threads) {
   scene::BuiltScene b = scene::build(s);
