@@ -85,8 +85,9 @@ def main():
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(1, 2, figsize=(11, 4))
         for lab, t, f in curves_on:
-            ax[0].plot(1e6 * t, 100 * f, label=lab, lw=1.2,
-                       ls="-" if lab.startswith(("SPH", "MPM,")) else "--")
+            # Defaults solid, variants dashed; SPH blue-ish, MPM red-ish by label.
+            ax[0].plot(1e6 * t, 100 * f, label=lab, lw=1.6 if "default" in lab else 1.0,
+                       ls="-" if "default" in lab else "--")
         ax[0].set_xlabel("t (us)")
         ax[0].set_ylabel("failure ratio (%)")
         ax[0].set_title("damage on: failed (D >= 0.9)", fontsize=10)
