@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Plot the convergence study (tools/convergence, CSV from `convergence_study`).
 
-Four log-log panels: the large-deformation manufactured solution (G = 0.05) against cell size
-and against wall time, and the small-deformation MMS (G = 1e-4) and the vibrating bar's
-displacement against the same two, one series per transfer scheme (uGIMP) and per shape (FLIP),
-with the least-squares order of each series in the legends of the cell-size panels.
+Six log-log panels: the large-deformation manufactured solution (G = 0.05) against cell size
+and against wall time, the small-deformation MMS (G = 1e-4) and the vibrating bar's
+displacement against the same two, and the spherical elastic wave's radial-stress error
+(tests/verification/engine/spherical_wave_test.cpp, SphericalWave.DISABLED_ConvergenceStudy with
+SPHERICAL_WAVE_STUDY_CSV) against the same two, one series per transfer scheme (uGIMP) and per
+shape (FLIP), with the least-squares order of each series in the legends of the cell-size panels.
 
 Problem names in the CSV are <problem>[_symwall][_<scheme>], scheme one of apic, pic<f> (the
 FLIP/PIC blend with PIC fraction f), xpic<m> (XPIC of order m); no scheme suffix is FLIP.
@@ -22,9 +24,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-BASES = ("bar_displacement", "bar_com_velocity", "mms_small", "mms_large")
-LABELS = {"bar_displacement": "bar u", "mms_small": "MMS G=1e-4", "mms_large": "MMS G=0.05"}
-MARKERS = {"bar_displacement": "o", "mms_small": "s", "mms_large": "^"}
+BASES = ("bar_displacement", "bar_com_velocity", "mms_small", "mms_large", "spherical_wave_srr")
+LABELS = {"bar_displacement": "bar u", "mms_small": "MMS G=1e-4", "mms_large": "MMS G=0.05",
+          "spherical_wave_srr": "spherical wave s_rr"}
+MARKERS = {"bar_displacement": "o", "mms_small": "s", "mms_large": "^", "spherical_wave_srr": "D"}
 SCHEME_COLOURS = {
     "flip": "tab:blue",
     "pic0.05": "tab:orange",
@@ -72,9 +75,10 @@ def main():
             s["err"].append(float(row["error"]))
             s["wall"].append(float(row["wall_s"]))
 
-    fig, axes = plt.subplots(2, 2, figsize=(17, 12))
+    fig, axes = plt.subplots(3, 2, figsize=(17, 18))
     panels = {"mms_large": (axes[0, 0], axes[0, 1]), "mms_small": (axes[1, 0], axes[1, 1]),
-              "bar_displacement": (axes[1, 0], axes[1, 1])}
+              "bar_displacement": (axes[1, 0], axes[1, 1]),
+              "spherical_wave_srr": (axes[2, 0], axes[2, 1])}
     for (base, scheme, shape), s in sorted(series.items()):
         order = np.argsort(s["h"])
         h = np.asarray(s["h"])[order]
@@ -91,16 +95,22 @@ def main():
     axes[0, 1].set_title("large-deformation MMS (G = 0.05), error vs run time")
     axes[1, 0].set_title("small MMS (G = 1e-4, squares) and vibrating bar (circles) vs cell size")
     axes[1, 1].set_title("small MMS and vibrating bar vs run time")
-    for ax in axes[:, 0]:
+    axes[2, 0].set_title("spherical elastic wave, s_rr L2 error / peak vs cell size (a/h = 4-16)")
+    axes[2, 1].set_title("spherical elastic wave vs run time (CPU s, 1 thread)")
+    for row, ax in enumerate(axes[:, 0]):
         ax.set_xlabel("cell size h / h_coarsest")
-        x = np.array([1 / 64, 1.0])
-        ax.loglog(x, 3e-1 * x, "k:", linewidth=1, label="order 1")
-        ax.loglog(x, 3e-1 * x**2, "k-.", linewidth=1, label="order 2")
+        # Guides over the row's range of h (the spherical wave spans a/h = 4-16 only).
+        x, c = (np.array([1 / 64, 1.0]), 3e-1) if row < 2 else (np.array([1 / 4, 1.0]), 6e-1)
+        ax.loglog(x, c * x, "k:", linewidth=1, label="order 1")
+        ax.loglog(x, c * x**2, "k-.", linewidth=1, label="order 2")
         ax.legend(fontsize=7, loc="lower right", ncol=1)
-    for ax in axes[:, 1]:
+    for ax in axes[:2, 1]:
         ax.set_xlabel("wall time per run [s] (1 thread, shared cores)")
-    for ax in axes.flat:
+    axes[2, 1].set_xlabel("CPU time per run [s] (1 thread)")
+    for ax in axes[:2].flat:
         ax.set_ylabel("relative L2 displacement error")
+    for ax in axes[2]:
+        ax.set_ylabel("L2 error of s_rr / exact peak |s_rr|")
         ax.grid(True, which="both", alpha=0.3)
     fig.suptitle("shatter verification per transfer scheme (colour) and shape (line style: "
                  "uGIMP solid, linear dotted, B-spline dashed)")

@@ -29,13 +29,17 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -51,13 +55,94 @@ using namespace shatter::test::spherical_wave;
 
 namespace {
 
+// The particle-grid transfer of a run, as the scene keys solver.transfer, pic_fraction and
+// xpic_order (docs/verification.md, "Transfer schemes"); default FLIP.
+struct Transfer {
+  TransferKind kind = TransferKind::flip;
+  double pic_fraction = 0.0;
+  int xpic_order = 5;
+  void apply(SolverConfig& cfg) const {
+    cfg.transfer = kind;
+    cfg.pic_fraction = pic_fraction;
+    cfg.xpic_order = xpic_order;
+  }
+  // docs/convergence.csv's scheme suffix (tools/plot_convergence.py): none for FLIP, _pic<f> for
+  // the blend (_pic1: PIC), _xpic<m>, _apic.
+  std::string suffix() const {
+    std::ostringstream s;
+    if (kind == TransferKind::apic) s << "_apic";
+    if (kind == TransferKind::xpic) s << "_xpic" << xpic_order;
+    if (kind == TransferKind::flip && pic_fraction > 0.0) s << "_pic" << pic_fraction;
+    return s.str();
+  }
+};
+
+// SPHERICAL_WAVE_TRANSFER, _PIC_FRACTION, _XPIC_ORDER (the study only); bad values throw, naming
+// the variable.
+Transfer transfer_from_environment() {
+  Transfer t;
+  if (const char* kind = std::getenv("SPHERICAL_WAVE_TRANSFER")) {
+    const std::string k = kind;
+    if (k == "flip") {
+      t.kind = TransferKind::flip;
+    } else if (k == "apic") {
+      t.kind = TransferKind::apic;
+    } else if (k == "xpic") {
+      t.kind = TransferKind::xpic;
+    } else {
+      throw std::invalid_argument("SPHERICAL_WAVE_TRANSFER=" + k + ": expected flip, apic or xpic");
+    }
+  }
+  if (const char* f = std::getenv("SPHERICAL_WAVE_PIC_FRACTION")) {
+    char* end = nullptr;
+    t.pic_fraction = std::strtod(f, &end);
+    if (end == f || *end != '\0' || !(t.pic_fraction >= 0.0 && t.pic_fraction <= 1.0) ||
+        t.kind != TransferKind::flip) {
+      throw std::invalid_argument(std::string("SPHERICAL_WAVE_PIC_FRACTION=") + f +
+                                  ": expected a number in [0, 1], with the flip transfer");
+    }
+  }
+  if (const char* m = std::getenv("SPHERICAL_WAVE_XPIC_ORDER")) {
+    char* end = nullptr;
+    const long order = std::strtol(m, &end, 10);
+    if (end == m || *end != '\0' || order < 1 || order > 32 || t.kind != TransferKind::xpic) {
+      throw std::invalid_argument(std::string("SPHERICAL_WAVE_XPIC_ORDER=") + m +
+                                  ": expected an integer in [1, 32], with the xpic transfer");
+    }
+    t.xpic_order = static_cast<int>(order);
+  }
+  return t;
+}
+
+// SPHERICAL_WAVE_CELLS=4,6,8: the resolutions a/h of the study (the default when unset).
+std::vector<int> cells_from_environment(std::vector<int> fallback) {
+  const char* list = std::getenv("SPHERICAL_WAVE_CELLS");
+  if (list == nullptr) return fallback;
+  std::vector<int> cells;
+  std::istringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const long n = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || n < 2 || n > 64) {
+      throw std::invalid_argument(std::string("SPHERICAL_WAVE_CELLS=") + list +
+                                  ": expected comma-separated integers a/h in [2, 64]");
+    }
+    cells.push_back(static_cast<int>(n));
+  }
+  return cells;
+}
+
 // Runs the octant at h = a / cells_per_a to c t = ct_over_a a and measures it against the exact
-// solution (support/spherical_wave.hpp).
-WaveErrors run_spherical_wave(int cells_per_a, double ct_over_a = 2.5, double ct0_over_a = 0.0) {
+// solution (support/spherical_wave.hpp). `transfer` sets the particle-grid transfer (FLIP, the
+// default, in the enabled tests; the study takes it from the environment).
+WaveErrors run_spherical_wave(int cells_per_a, double ct_over_a = 2.5, double ct0_over_a = 0.0,
+                              const Transfer& transfer = {}) {
   const Elastic m;
   auto mat = std::make_shared<LinearElastic>(kRho, kYoung, kPoisson);
   const double t0 = ct0_over_a * kA / m.c;
-  const SolverConfig cfg = octant_config(cells_per_a);
+  SolverConfig cfg = octant_config(cells_per_a);
+  transfer.apply(cfg);
   Simulation sim(cfg, make_octant(cells_per_a, ct0_over_a), {mat}, 0);
   const double t = ct_over_a * kA / m.c;
   sim.advance_to(t - t0);
@@ -180,15 +265,46 @@ TEST(SphericalWave, OctantOnThreeSymmetryPlanesMatchesFullBall) {
 }
 
 // The convergence study of docs/verification.md (minutes; run with
-// --gtest_also_run_disabled_tests --gtest_filter='*SphericalWave*').
+// --gtest_also_run_disabled_tests --gtest_filter='*SphericalWave*'). Environment:
+//   SPHERICAL_WAVE_CSV=prefix        writes prefix<a/h>.csv with the shell-mean profiles;
+//   SPHERICAL_WAVE_CT0=1.2           starts from the exact outgoing state at c t0 = 1.2 a;
+//   SPHERICAL_WAVE_CELLS=6,8,12      the resolutions a/h (default 4,6,8,12,16);
+//   SPHERICAL_WAVE_TRANSFER=flip|apic|xpic, SPHERICAL_WAVE_PIC_FRACTION=f (FLIP/PIC blend),
+//   SPHERICAL_WAVE_XPIC_ORDER=m      the transfer scheme, as the scene keys solver.transfer,
+//                                    pic_fraction, xpic_order (default FLIP, as the lab impact);
+//   SPHERICAL_WAVE_STUDY_CSV=file    appends one row per resolution in docs/convergence.csv's
+//                                    format (problem spherical_wave_srr[_scheme], the s_rr L2
+//                                    error, the run's CPU time in wall_s: run it with
+//                                    OMP_NUM_THREADS=1), for tools/plot_convergence.py.
 TEST(SphericalWave, DISABLED_ConvergenceStudy) {
-  // SPHERICAL_WAVE_CSV=prefix writes prefix<a/h>.csv with the shell-mean profiles.
   const char* prefix = std::getenv("SPHERICAL_WAVE_CSV");
   const char* start = std::getenv("SPHERICAL_WAVE_CT0");  // e.g. 1.2: outgoing start
   const double ct0 = start ? std::atof(start) : 0.0;
-  for (const int n : {4, 6, 8, 12, 16}) {
-    const WaveErrors e = run_spherical_wave(n, 2.5, ct0);
+  const Transfer transfer = transfer_from_environment();
+  const std::vector<int> cells = cells_from_environment({4, 6, 8, 12, 16});
+  const char* study_csv = std::getenv("SPHERICAL_WAVE_STUDY_CSV");
+  std::cout << "transfer " << transfer.suffix() << " (empty: FLIP)\n";
+  for (const int n : cells) {
+    const auto t_start = std::chrono::steady_clock::now();
+    const std::clock_t c_start = std::clock();
+    const WaveErrors e = run_spherical_wave(n, 2.5, ct0, transfer);
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    // Process CPU time: on a shared machine with one thread (OMP_NUM_THREADS=1) it is the run's
+    // cost, where the wall time also counts the other processes.
+    const double cpu = static_cast<double>(std::clock() - c_start) / CLOCKS_PER_SEC;
     print("study", n, e);
+    std::cout << "  wall " << wall << " s, CPU " << cpu << " s\n";
+    if (study_csv != nullptr) {
+      const bool fresh = !std::ifstream(study_csv).good();
+      std::ofstream out(study_csv, std::ios::app);
+      ASSERT_TRUE(out) << "SPHERICAL_WAVE_STUDY_CSV: cannot write " << study_csv;
+      if (fresh) out << "problem,shape,cells,h_m,error,wall_s,steps,particles\n";
+      out.precision(9);
+      out << "spherical_wave_srr" << (ct0 > 0.0 ? "_outgoing" : "") << transfer.suffix()
+          << ",ugimp," << n << "," << kA / n << "," << e.srr_l2 << "," << cpu << "," << e.steps
+          << "," << e.points << "\n";
+    }
     if (prefix == nullptr) continue;
     std::ofstream csv(std::string(prefix) + std::to_string(n) + ".csv");
     csv << "r_m,srr_mpm_Pa,srr_exact_Pa,stt_mpm_Pa,stt_exact_Pa,vr_mpm_m_per_s,vr_exact_m_per_s\n";
