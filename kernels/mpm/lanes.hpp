@@ -1,0 +1,81 @@
+#pragma once
+// Short vectors of doubles for the gathers (G2P, velocity gradient). A gather sums, over the 27
+// stencil nodes of one particle, node values times a weight; the components of one node (x, y, z
+// of a field, or several fields side by side) sit in the lanes of one vector, so each node costs
+// one load and one fused multiply-add instead of one per component. Lanes run across the
+// components of one particle, not across particles: no gather instruction, no scalar tail, and
+// each lane does exactly the IEEE operations of the scalar loop it replaces (a product, then
+// fma(weight, value, sum) in node order), whatever the compiler's -ffp-contract. Results thus do
+// not depend on which particles a block holds, on the thread count or on the rank count
+// (docs/mpi.md, "Determinism"), and the portable fallback (std::fma per lane) gives the same bits.
+
+#include <cmath>
+
+#if (defined(__AVX__) && defined(__FMA__)) || defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
+namespace shatter::kernels {
+
+// N doubles (N = 4 or 8). The portable form; the specialisations below use AVX/FMA and AVX-512.
+template <int N>
+struct Lanes {
+  double v[N];
+  static Lanes zero() { return {}; }
+  static Lanes splat(double s) {
+    Lanes r;
+    for (int k = 0; k < N; ++k) r.v[k] = s;
+    return r;
+  }
+  static Lanes load(const double* p) {
+    Lanes r;
+    for (int k = 0; k < N; ++k) r.v[k] = p[k];
+    return r;
+  }
+  void store(double* p) const {
+    for (int k = 0; k < N; ++k) p[k] = v[k];
+  }
+  friend Lanes operator*(const Lanes& a, const Lanes& b) {
+    Lanes r;
+    for (int k = 0; k < N; ++k) r.v[k] = a.v[k] * b.v[k];
+    return r;
+  }
+  // a * b + c, rounded once.
+  friend Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
+    Lanes r;
+    for (int k = 0; k < N; ++k) r.v[k] = std::fma(a.v[k], b.v[k], c.v[k]);
+    return r;
+  }
+};
+
+#if defined(__AVX__) && defined(__FMA__)
+template <>
+struct Lanes<4> {
+  __m256d v;
+  static Lanes zero() { return {_mm256_setzero_pd()}; }
+  static Lanes splat(double s) { return {_mm256_set1_pd(s)}; }
+  static Lanes load(const double* p) { return {_mm256_loadu_pd(p)}; }
+  void store(double* p) const { _mm256_storeu_pd(p, v); }
+  friend Lanes operator*(const Lanes& a, const Lanes& b) { return {_mm256_mul_pd(a.v, b.v)}; }
+  friend Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
+    return {_mm256_fmadd_pd(a.v, b.v, c.v)};
+  }
+};
+#endif
+
+#if defined(__AVX512F__)
+template <>
+struct Lanes<8> {
+  __m512d v;
+  static Lanes zero() { return {_mm512_setzero_pd()}; }
+  static Lanes splat(double s) { return {_mm512_set1_pd(s)}; }
+  static Lanes load(const double* p) { return {_mm512_loadu_pd(p)}; }
+  void store(double* p) const { _mm512_storeu_pd(p, v); }
+  friend Lanes operator*(const Lanes& a, const Lanes& b) { return {_mm512_mul_pd(a.v, b.v)}; }
+  friend Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
+    return {_mm512_fmadd_pd(a.v, b.v, c.v)};
+  }
+};
+#endif
+
+}  // namespace shatter::kernels
