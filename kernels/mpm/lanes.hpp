@@ -32,6 +32,11 @@ struct Lanes {
     for (int k = 0; k < N; ++k) r.v[k] = p[k];
     return r;
   }
+  // (a, b, c, d); N = 4 only.
+  static Lanes set(double a, double b, double c, double d) {
+    static_assert(N == 4);
+    return {{a, b, c, d}};
+  }
   void store(double* p) const {
     for (int k = 0; k < N; ++k) p[k] = v[k];
   }
@@ -55,6 +60,8 @@ struct Lanes<4> {
   static Lanes zero() { return {_mm256_setzero_pd()}; }
   static Lanes splat(double s) { return {_mm256_set1_pd(s)}; }
   static Lanes load(const double* p) { return {_mm256_loadu_pd(p)}; }
+  // In registers (a store of scalars then a vector load would stall on store forwarding).
+  static Lanes set(double a, double b, double c, double d) { return {_mm256_setr_pd(a, b, c, d)}; }
   void store(double* p) const { _mm256_storeu_pd(p, v); }
   friend Lanes operator*(const Lanes& a, const Lanes& b) { return {_mm256_mul_pd(a.v, b.v)}; }
   friend Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {

@@ -37,12 +37,9 @@ void velocity_gradient_gather(const Stencil<Shape>& st, const GradientWindow& wi
   const double(&v)[3][GradientWindow::kSize] = win.v;
   Lanes<4> A[W], B[W], C[W];
   for (int a = 0; a < W; ++a) {
-    const double ra[4] = {st.dw[0][a], st.w[0][a], st.w[0][a], 0.0};
-    const double rb[4] = {st.w[1][a], st.dw[1][a], st.w[1][a], 0.0};
-    const double rc[4] = {st.w[2][a], st.w[2][a], st.dw[2][a], 0.0};
-    A[a] = Lanes<4>::load(ra);
-    B[a] = Lanes<4>::load(rb);
-    C[a] = Lanes<4>::load(rc);
+    A[a] = Lanes<4>::set(st.dw[0][a], st.w[0][a], st.w[0][a], 0.0);
+    B[a] = Lanes<4>::set(st.w[1][a], st.dw[1][a], st.w[1][a], 0.0);
+    C[a] = Lanes<4>::set(st.w[2][a], st.w[2][a], st.dw[2][a], 0.0);
   }
   Lanes<4> L0 = Lanes<4>::zero(), L1 = Lanes<4>::zero(), L2 = Lanes<4>::zero();
   for (int a = 0; a < W; ++a) {
