@@ -45,6 +45,11 @@ struct Lanes {
     for (int k = 0; k < N; ++k) r.v[k] = a.v[k] * b.v[k];
     return r;
   }
+  friend Lanes operator+(const Lanes& a, const Lanes& b) {
+    Lanes r;
+    for (int k = 0; k < N; ++k) r.v[k] = a.v[k] + b.v[k];
+    return r;
+  }
   // a * b + c, rounded once.
   friend Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
     Lanes r;
@@ -64,6 +69,7 @@ struct Lanes<4> {
   static Lanes set(double a, double b, double c, double d) { return {_mm256_setr_pd(a, b, c, d)}; }
   void store(double* p) const { _mm256_storeu_pd(p, v); }
   friend Lanes operator*(const Lanes& a, const Lanes& b) { return {_mm256_mul_pd(a.v, b.v)}; }
+  friend Lanes operator+(const Lanes& a, const Lanes& b) { return {_mm256_add_pd(a.v, b.v)}; }
   friend Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
     return {_mm256_fmadd_pd(a.v, b.v, c.v)};
   }
@@ -79,6 +85,7 @@ struct Lanes<8> {
   static Lanes load(const double* p) { return {_mm512_loadu_pd(p)}; }
   void store(double* p) const { _mm512_storeu_pd(p, v); }
   friend Lanes operator*(const Lanes& a, const Lanes& b) { return {_mm512_mul_pd(a.v, b.v)}; }
+  friend Lanes operator+(const Lanes& a, const Lanes& b) { return {_mm512_add_pd(a.v, b.v)}; }
   friend Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
     return {_mm512_fmadd_pd(a.v, b.v, c.v)};
   }
