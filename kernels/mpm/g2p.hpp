@@ -62,19 +62,24 @@ void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Co
 // values (lanes.hpp): acceleration f* and velocity p* in `fp` (lanes 0-2 and 3-5, two zero
 // lanes), XPIC's filtered velocity in `fv` (lanes 0-2, one zero lane) when there is one.
 struct G2PWindow : WindowGeometry {
-  alignas(64) double fp[kSize][8];
-  alignas(64) double fv[kSize][4];
+  double fp_[kSize * 8 + 7], fv_[kSize * 4 + 7];  // see fp() and fv()
+  double* fp(int i) { return align64(fp_) + 8 * i; }
+  double* fv(int i) { return align64(fv_) + 4 * i; }
+  const double* fp(int i) const { return align64(fp_) + 8 * i; }
+  const double* fv(int i) const { return align64(fv_) + 4 * i; }
 
   // fields: f*, p* (x, y, z each), then the filtered velocity, read only when `filtered`.
   void load(const std::uint32_t* neighbours, const double* const (&fields)[9], bool filtered) {
     visit(neighbours, [&](int i, std::size_t g) {
-      for (int f = 0; f < 6; ++f) fp[i][f] = fields[f][g];
-      fp[i][6] = fp[i][7] = 0.0;
+      double* n = fp(i);
+      for (int f = 0; f < 6; ++f) n[f] = fields[f][g];
+      n[6] = n[7] = 0.0;
     });
     if (filtered) {
       visit(neighbours, [&](int i, std::size_t g) {
-        for (int f = 0; f < 3; ++f) fv[i][f] = fields[6 + f][g];
-        fv[i][3] = 0.0;
+        double* n = fv(i);
+        for (int f = 0; f < 3; ++f) n[f] = fields[6 + f][g];
+        n[3] = 0.0;
       });
     }
   }
@@ -95,8 +100,8 @@ void g2p_gather(const Stencil<Shape>& st, const G2PWindow& win, double (&fp)[8],
       for (int c = 0; c < W; ++c) {
         const int i = row + c;
         const double N = wab * st.w[2][c];
-        s8 = fma(Lanes<8>::splat(N), Lanes<8>::load(win.fp[i]), s8);
-        if constexpr (Filtered) s4 = fma(Lanes<4>::splat(N), Lanes<4>::load(win.fv[i]), s4);
+        s8 = fma(Lanes<8>::splat(N), Lanes<8>::load(win.fp(i)), s8);
+        if constexpr (Filtered) s4 = fma(Lanes<4>::splat(N), Lanes<4>::load(win.fv(i)), s4);
       }
     }
   }

@@ -10,12 +10,24 @@
 // (docs/mpi.md, "Determinism"), and the portable fallback (std::fma per lane) gives the same bits.
 
 #include <cmath>
+#include <cstdint>
 
 #if (defined(__AVX__) && defined(__FMA__)) || defined(__AVX512F__)
 #include <immintrin.h>
 #endif
 
 namespace shatter::kernels {
+
+// The first 64-byte boundary at or after p, for scratch arrays that hold 7 extra doubles:
+// aligned by hand because GCC 12's AddressSanitizer places stack objects at 32-byte boundaries
+// whatever alignas asks (and UBSan then reports the misaligned object).
+inline double* align64(double* p) {
+  return reinterpret_cast<double*>((reinterpret_cast<std::uintptr_t>(p) + 63) &
+                                   ~std::uintptr_t{63});
+}
+inline const double* align64(const double* p) {
+  return align64(const_cast<double*>(p));
+}
 
 // N doubles (N = 4 or 8). The portable form; the specialisations below use AVX/FMA and AVX-512.
 template <int N>

@@ -30,7 +30,8 @@ struct P2GScratch {
   double m[kSize], px[kSize], py[kSize], pz[kSize], fx[kSize], fy[kSize], fz[kSize];
   // The FLIP scatter's sums side by side per node (lanes.hpp): mass and momentum in lanes 0-3,
   // force in lanes 4-6, lane 7 zero. The APIC scatter and the mass gradient use the arrays above.
-  alignas(64) double q[kSize][8];
+  double q_[kSize * 8 + 7];  // see q()
+  double* q(int i) { return align64(q_) + 8 * i; }
 };
 
 // kForce: also scatter the internal force -V_p sigma_p . grad N_I (Eq. 29); otherwise only mass
@@ -51,7 +52,7 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
   // scalar scatter.
   constexpr bool kLanes = !kAffine;
   if constexpr (kLanes) {
-    std::fill(&s.q[0][0], &s.q[0][0] + 8 * P2GScratch::kSize, 0.0);
+    std::fill(s.q(0), s.q(0) + 8 * P2GScratch::kSize, 0.0);
   } else {
     std::fill(std::begin(s.m), std::end(s.m), 0.0);
     std::fill(std::begin(s.px), std::end(s.px), 0.0);
@@ -107,7 +108,7 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
           const double gy_ab = st.w[0][a] * st.dw[1][b];
           const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
           for (int c = 0; c < W; ++c) {
-            double* node = s.q[row + c];
+            double* node = s.q(row + c);
             const double N = wab * st.w[2][c];
             const Lanes<4> n = Lanes<4>::splat(N);
             fma(q, n, Lanes<4>::load(node)).store(node);
@@ -171,8 +172,9 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
         const int i = (lx * E + ly) * E + lz;
         double sm, spx, spy, spz, sfx = 0.0, sfy = 0.0, sfz = 0.0;
         if constexpr (kLanes) {
-          sm = s.q[i][0], spx = s.q[i][1], spy = s.q[i][2], spz = s.q[i][3];
-          if constexpr (kForce) sfx = s.q[i][4], sfy = s.q[i][5], sfz = s.q[i][6];
+          const double* n = s.q(i);
+          sm = n[0], spx = n[1], spy = n[2], spz = n[3];
+          if constexpr (kForce) sfx = n[4], sfy = n[5], sfz = n[6];
         } else {
           sm = s.m[i], spx = s.px[i], spy = s.py[i], spz = s.pz[i];
           if constexpr (kForce) sfx = s.fx[i], sfy = s.fy[i], sfz = s.fz[i];
