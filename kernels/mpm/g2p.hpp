@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <span>
 
+#include "mpm/lanes.hpp"
 #include "mpm/stencil.hpp"
 
 namespace shatter::kernels {
@@ -57,8 +58,56 @@ void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Co
   wz[p] = uz;
 }
 
-// Node fields a G2P window holds: acceleration f*, velocity p*, and XPIC's filtered velocity.
-using G2PWindow = NodeWindow<9>;
+// The node fields of a G2P window, side by side per node so that one vector load takes a node's
+// values (lanes.hpp): acceleration f* and velocity p* in `fp` (lanes 0-2 and 3-5, two zero
+// lanes), XPIC's filtered velocity in `fv` (lanes 0-2, one zero lane) when there is one.
+struct G2PWindow : WindowGeometry {
+  double fp_[kSize * 8 + 7], fv_[kSize * 4 + 7];  // see fp() and fv()
+  double* fp(int i) { return align64(fp_) + 8 * i; }
+  double* fv(int i) { return align64(fv_) + 4 * i; }
+  const double* fp(int i) const { return align64(fp_) + 8 * i; }
+  const double* fv(int i) const { return align64(fv_) + 4 * i; }
+
+  // fields: f*, p* (x, y, z each), then the filtered velocity, read only when `filtered`.
+  void load(const std::uint32_t* neighbours, const double* const (&fields)[9], bool filtered) {
+    visit(neighbours, [&](int i, std::size_t g) {
+      double* n = fp(i);
+      for (int f = 0; f < 6; ++f) n[f] = fields[f][g];
+      n[6] = n[7] = 0.0;
+    });
+    if (filtered) {
+      visit(neighbours, [&](int i, std::size_t g) {
+        double* n = fv(i);
+        for (int f = 0; f < 3; ++f) n[f] = fields[6 + f][g];
+        n[3] = 0.0;
+      });
+    }
+  }
+};
+
+// sum_I N_I(x_p) u_I over the stencil of `st` for the window fields of G2PWindow: lanes 0-5 of
+// `fp` the acceleration and velocity, `fv` the filtered velocity (Filtered only). The weights are
+// N = (w_x w_y) w_z as in the scalar loop, and each lane adds fma(N, u_I, sum) node by node.
+template <bool Filtered, class Shape>
+void g2p_gather(const Stencil<Shape>& st, const G2PWindow& win, double (&fp)[8], double (&fv)[4]) {
+  constexpr int W = Shape::kWidth;
+  Lanes<8> s8 = Lanes<8>::zero();
+  Lanes<4> s4 = Lanes<4>::zero();
+  for (int a = 0; a < W; ++a) {
+    for (int b = 0; b < W; ++b) {
+      const double wab = st.w[0][a] * st.w[1][b];
+      const int row = G2PWindow::row(st, a, b);
+      for (int c = 0; c < W; ++c) {
+        const int i = row + c;
+        const double N = wab * st.w[2][c];
+        s8 = fma(Lanes<8>::splat(N), Lanes<8>::load(win.fp(i)), s8);
+        if constexpr (Filtered) s4 = fma(Lanes<4>::splat(N), Lanes<4>::load(win.fv(i)), s4);
+      }
+    }
+  }
+  s8.store(fp);
+  if constexpr (Filtered) s4.store(fv);
+}
 
 // Grid arrays after the grid update: acceleration in f*, velocity in p*. Particles of one owner
 // block that share one neighbour list (all of them, except where bodies meet); the window is
@@ -67,40 +116,24 @@ template <class Shape, class After>
 void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
                const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
                const SparseGrid::Nodes& nodes, G2PWindow& win, After&& after) {
-  constexpr int W = Shape::kWidth;
   const bool filtered = in.fvx != nullptr;
-  const double* fields[9] = {nodes.fx.data(), nodes.fy.data(), nodes.fz.data(),
-                             nodes.px.data(), nodes.py.data(), nodes.pz.data(),
-                             in.fvx,          in.fvy,          in.fvz};
-  win.load(neighbours, fields, filtered ? 9 : 6);
-  const double(&v)[9][G2PWindow::kSize] = win.v;
+  const double* const fields[9] = {nodes.fx.data(), nodes.fy.data(), nodes.fz.data(),
+                                   nodes.px.data(), nodes.py.data(), nodes.pz.data(),
+                                   in.fvx,          in.fvy,          in.fvz};
+  win.load(neighbours, fields, filtered);
   Stencil<Shape> st;
   for (const std::uint32_t p : particles) {
     const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
     st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
-    double ax = 0, ay = 0, az = 0, ux = 0, uy = 0, uz = 0, wx = 0, wy = 0, wz = 0;
-    for (int a = 0; a < W; ++a) {
-      for (int b = 0; b < W; ++b) {
-        const double wab = st.w[0][a] * st.w[1][b];
-        const int row = G2PWindow::row(st, a, b);
-        for (int c = 0; c < W; ++c) {
-          const int i = row + c;
-          const double N = wab * st.w[2][c];
-          ax += N * v[0][i];
-          ay += N * v[1][i];
-          az += N * v[2][i];
-          ux += N * v[3][i];
-          uy += N * v[4][i];
-          uz += N * v[5][i];
-          if (filtered) {
-            wx += N * v[6][i];
-            wy += N * v[7][i];
-            wz += N * v[8][i];
-          }
-        }
-      }
+    alignas(64) double s[8];
+    alignas(32) double t[4] = {};
+    if (filtered) {
+      g2p_gather<true>(st, win, s, t);
+    } else {
+      g2p_gather<false>(st, win, s, t);
     }
-    if (!filtered) wx = ux, wy = uy, wz = uz;
+    const double ax = s[0], ay = s[1], az = s[2], ux = s[3], uy = s[4], uz = s[5];
+    const double wx = filtered ? t[0] : ux, wy = filtered ? t[1] : uy, wz = filtered ? t[2] : uz;
     const double v0[3] = {in.vx[p], in.vy[p], in.vz[p]};
     const double f = in.pic_fraction;
     if (f == 1.0) {

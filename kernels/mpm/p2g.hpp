@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 
+#include "mpm/lanes.hpp"
 #include "mpm/stencil.hpp"
 
 namespace shatter::kernels {
@@ -27,6 +28,10 @@ struct P2GScratch {
   static constexpr int kEdge = SparseGrid::kBlock + 2;
   static constexpr int kSize = kEdge * kEdge * kEdge;
   double m[kSize], px[kSize], py[kSize], pz[kSize], fx[kSize], fy[kSize], fz[kSize];
+  // The FLIP scatter's sums side by side per node (lanes.hpp): mass and momentum in lanes 0-3,
+  // force in lanes 4-6, lane 7 zero. The APIC scatter and the mass gradient use the arrays above.
+  double q_[kSize * 8 + 7];  // see q()
+  double* q(int i) { return align64(q_) + 8 * i; }
 };
 
 // kForce: also scatter the internal force -V_p sigma_p . grad N_I (Eq. 29); otherwise only mass
@@ -40,14 +45,24 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
                SparseGrid::Nodes& nodes, P2GScratch& s) {
   constexpr int W = Shape::kWidth;
   constexpr int E = P2GScratch::kEdge;
-  std::fill(std::begin(s.m), std::end(s.m), 0.0);
-  std::fill(std::begin(s.px), std::end(s.px), 0.0);
-  std::fill(std::begin(s.py), std::end(s.py), 0.0);
-  std::fill(std::begin(s.pz), std::end(s.pz), 0.0);
-  if constexpr (kForce) {
-    std::fill(std::begin(s.fx), std::end(s.fx), 0.0);
-    std::fill(std::begin(s.fy), std::end(s.fy), 0.0);
-    std::fill(std::begin(s.fz), std::end(s.fz), 0.0);
+  // Without the affine term the node sums run in vector lanes, each lane with the operations of
+  // the scalar loop below (lanes.hpp): fma(c, N, sum) for mass and momentum, and for the force
+  // fma(mb, N, fma(s_z, g_z, fma(s_x, g_x, s_y g_y))) added to the sum, the FMAs GCC's
+  // -ffp-contract=fast made of the scalar expressions, so results are bitwise those of the
+  // scalar scatter.
+  constexpr bool kLanes = !kAffine;
+  if constexpr (kLanes) {
+    std::fill(s.q(0), s.q(0) + 8 * P2GScratch::kSize, 0.0);
+  } else {
+    std::fill(std::begin(s.m), std::end(s.m), 0.0);
+    std::fill(std::begin(s.px), std::end(s.px), 0.0);
+    std::fill(std::begin(s.py), std::end(s.py), 0.0);
+    std::fill(std::begin(s.pz), std::end(s.pz), 0.0);
+    if constexpr (kForce) {
+      std::fill(std::begin(s.fx), std::end(s.fx), 0.0);
+      std::fill(std::begin(s.fy), std::end(s.fy), 0.0);
+      std::fill(std::begin(s.fz), std::end(s.fz), 0.0);
+    }
   }
 
   Stencil<Shape> st;
@@ -79,6 +94,35 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
       sxx = k * in.sxx[p], syy = k * in.syy[p], szz = k * in.szz[p];
       sxy = k * in.sxy[p], syz = k * in.syz[p], sxz = k * in.sxz[p];
       if (in.bx) mbx = m * in.bx[p], mby = m * in.by[p], mbz = m * in.bz[p];
+    }
+    if constexpr (kLanes) {
+      const Lanes<4> q = Lanes<4>::set(m, mvx, mvy, mvz);
+      const Lanes<4> sx = Lanes<4>::set(sxx, sxy, sxz, 0.0);
+      const Lanes<4> sy = Lanes<4>::set(sxy, syy, syz, 0.0);
+      const Lanes<4> sz = Lanes<4>::set(sxz, syz, szz, 0.0);
+      const Lanes<4> mb = Lanes<4>::set(mbx, mby, mbz, 0.0);
+      for (int a = 0; a < W; ++a) {
+        for (int b = 0; b < W; ++b) {
+          const double wab = st.w[0][a] * st.w[1][b];
+          const double gx_ab = st.dw[0][a] * st.w[1][b];
+          const double gy_ab = st.w[0][a] * st.dw[1][b];
+          const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
+          for (int c = 0; c < W; ++c) {
+            double* node = s.q(row + c);
+            const double N = wab * st.w[2][c];
+            const Lanes<4> n = Lanes<4>::splat(N);
+            fma(q, n, Lanes<4>::load(node)).store(node);
+            if constexpr (kForce) {
+              const Lanes<4> gx = Lanes<4>::splat(gx_ab * st.w[2][c]);
+              const Lanes<4> gy = Lanes<4>::splat(gy_ab * st.w[2][c]);
+              const Lanes<4> gz = Lanes<4>::splat(wab * st.dw[2][c]);
+              const Lanes<4> f = fma(mb, n, fma(sz, gz, fma(sx, gx, sy * gy)));  // Eqs. 29, 30
+              (Lanes<4>::load(node + 4) + f).store(node + 4);
+            }
+          }
+        }
+      }
+      continue;
     }
     for (int a = 0; a < W; ++a) {
       for (int b = 0; b < W; ++b) {
@@ -126,19 +170,28 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
     for (int ly = 0; ly < E; ++ly) {
       for (int lz = 0; lz < E; ++lz) {
         const int i = (lx * E + ly) * E + lz;
-        if (s.m[i] == 0.0) continue;
+        double sm, spx, spy, spz, sfx = 0.0, sfy = 0.0, sfz = 0.0;
+        if constexpr (kLanes) {
+          const double* n = s.q(i);
+          sm = n[0], spx = n[1], spy = n[2], spz = n[3];
+          if constexpr (kForce) sfx = n[4], sfy = n[5], sfz = n[6];
+        } else {
+          sm = s.m[i], spx = s.px[i], spy = s.py[i], spz = s.pz[i];
+          if constexpr (kForce) sfx = s.fx[i], sfy = s.fy[i], sfz = s.fz[i];
+        }
+        if (sm == 0.0) continue;
         const int sel = (lx >> bits) | ((ly >> bits) << 1) | ((lz >> bits) << 2);
         const std::size_t g =
             std::size_t{neighbours[sel]} * SparseGrid::kBlockNodes +
             static_cast<std::size_t>(SparseGrid::local(lx & mask, ly & mask, lz & mask));
-        if constexpr (kForce) nodes.mass[g] += s.m[i];  // the remap reuses step 1's mass
-        nodes.px[g] += s.px[i];
-        nodes.py[g] += s.py[i];
-        nodes.pz[g] += s.pz[i];
+        if constexpr (kForce) nodes.mass[g] += sm;  // the remap reuses step 1's mass
+        nodes.px[g] += spx;
+        nodes.py[g] += spy;
+        nodes.pz[g] += spz;
         if constexpr (kForce) {
-          nodes.fx[g] += s.fx[i];
-          nodes.fy[g] += s.fy[i];
-          nodes.fz[g] += s.fz[i];
+          nodes.fx[g] += sfx;
+          nodes.fy[g] += sfy;
+          nodes.fz[g] += sfz;
         }
       }
     }

@@ -123,15 +123,16 @@ void store_stencils(const double* const (&x)[3], const double* size0, double inv
 // The nodes of the 2x2x2 blocks that the stencils of one owner block reach, copied into one
 // padded cube of (kBlock + 2)^3 nodes (the reverse of P2GScratch's flush in p2g.hpp). A gather
 // (G2P, velocity gradient) then finds stencil node (a, b, c) at a fixed stride, with no block
-// lookup per node; F fields at most.
-template <int F>
-struct NodeWindow {
+// lookup per node. WindowGeometry is the cube; NodeWindow holds F fields one after the other,
+// G2PWindow (g2p.hpp) the fields of each node side by side.
+struct WindowGeometry {
   static constexpr int kEdge = SparseGrid::kBlock + 2;
   static constexpr int kSize = kEdge * kEdge * kEdge;
-  double v[F][kSize];
 
-  // Copies `count` (<= F) node fields through the owner's neighbour list (8 blocks).
-  void load(const std::uint32_t* neighbours, const double* const* fields, int count) {
+  // body(i, g) for every window node i and its grid node g, through the owner's neighbour list
+  // (8 blocks).
+  template <class Body>
+  static void visit(const std::uint32_t* neighbours, Body&& body) {
     constexpr int mask = SparseGrid::kBlock - 1;
     constexpr int bits = SparseGrid::kBlockBits;
     for (int lx = 0; lx < kEdge; ++lx) {
@@ -142,7 +143,7 @@ struct NodeWindow {
           const std::size_t g =
               std::size_t{neighbours[sel_xy | ((lz >> bits) << 2)]} * SparseGrid::kBlockNodes +
               static_cast<std::size_t>(SparseGrid::local(lx & mask, ly & mask, lz & mask));
-          for (int f = 0; f < count; ++f) v[f][i] = fields[f][g];
+          body(i, g);
         }
       }
     }
@@ -152,6 +153,19 @@ struct NodeWindow {
   template <class Shape>
   static int row(const Stencil<Shape>& st, int a, int b) {
     return ((st.off[0] + a) * kEdge + (st.off[1] + b)) * kEdge + st.off[2];
+  }
+};
+
+// F node fields, one array each.
+template <int F>
+struct NodeWindow : WindowGeometry {
+  double v[F][kSize];
+
+  // Copies `count` (<= F) node fields.
+  void load(const std::uint32_t* neighbours, const double* const* fields, int count) {
+    visit(neighbours, [&](int i, std::size_t g) {
+      for (int f = 0; f < count; ++f) v[f][i] = fields[f][g];
+    });
   }
 };
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 
+#include "mpm/lanes.hpp"
 #include "mpm/stencil.hpp"
 
 namespace shatter::kernels {
@@ -24,36 +25,55 @@ struct GradientParticles {
 // Node fields a velocity-gradient window holds: the velocity p*.
 using GradientWindow = NodeWindow<3>;
 
+// L_ij / (1/h) = sum_I v_iI G_Ij, with G_I = (w'_x w_y w_z, w_x w'_y w_z, w_x w_y w'_z) at
+// stencil node I (cell units). The three components of G_I sit in the lanes of one vector (the
+// fourth is zero), formed as (A_a B_b) C_c with A_a = (w'_x, w_x, w_x), B_b = (w_y, w'_y, w_y),
+// C_c = (w_z, w_z, w'_z): each lane the product of the scalar loop, in its order. Row r of L
+// then adds fma(v_rI, G_I, L_r) node by node (lanes.hpp): the scalar loop's operations.
+template <class Shape>
+void velocity_gradient_gather(const Stencil<Shape>& st, const GradientWindow& win,
+                              double (&L)[3][4]) {
+  constexpr int W = Shape::kWidth;
+  const double(&v)[3][GradientWindow::kSize] = win.v;
+  Lanes<4> A[W], B[W], C[W];
+  for (int a = 0; a < W; ++a) {
+    A[a] = Lanes<4>::set(st.dw[0][a], st.w[0][a], st.w[0][a], 0.0);
+    B[a] = Lanes<4>::set(st.w[1][a], st.dw[1][a], st.w[1][a], 0.0);
+    C[a] = Lanes<4>::set(st.w[2][a], st.w[2][a], st.dw[2][a], 0.0);
+  }
+  Lanes<4> L0 = Lanes<4>::zero(), L1 = Lanes<4>::zero(), L2 = Lanes<4>::zero();
+  for (int a = 0; a < W; ++a) {
+    for (int b = 0; b < W; ++b) {
+      const Lanes<4> ab = A[a] * B[b];
+      const int row = GradientWindow::row(st, a, b);
+      for (int c = 0; c < W; ++c) {
+        const int i = row + c;
+        const Lanes<4> g = ab * C[c];
+        L0 = fma(Lanes<4>::splat(v[0][i]), g, L0);
+        L1 = fma(Lanes<4>::splat(v[1][i]), g, L1);
+        L2 = fma(Lanes<4>::splat(v[2][i]), g, L2);
+      }
+    }
+  }
+  L0.store(L[0]);
+  L1.store(L[1]);
+  L2.store(L[2]);
+}
+
 // Grid velocity in p*: after the MUSL remap (FLIP), or straight from the grid update (APIC).
 // Particles of one owner block that share one neighbour list; the window is the caller's scratch.
 template <class Shape>
 void velocity_gradient_block(const GradientParticles& in, std::span<const std::uint32_t> particles,
                              const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
                              const SparseGrid::Nodes& nodes, GradientWindow& win) {
-  constexpr int W = Shape::kWidth;
   const double* fields[3] = {nodes.px.data(), nodes.py.data(), nodes.pz.data()};
   win.load(neighbours, fields, 3);
-  const double(&v)[3][GradientWindow::kSize] = win.v;
   Stencil<Shape> st;
   for (const std::uint32_t p : particles) {
     const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
     st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
-    double L[3][3] = {};
-    for (int a = 0; a < W; ++a) {
-      for (int b = 0; b < W; ++b) {
-        const int row = GradientWindow::row(st, a, b);
-        for (int c = 0; c < W; ++c) {
-          const int i = row + c;
-          const double g[3] = {st.dw[0][a] * st.w[1][b] * st.w[2][c],
-                               st.w[0][a] * st.dw[1][b] * st.w[2][c],
-                               st.w[0][a] * st.w[1][b] * st.dw[2][c]};
-          const double u[3] = {v[0][i], v[1][i], v[2][i]};
-          for (int r = 0; r < 3; ++r) {
-            for (int q = 0; q < 3; ++q) L[r][q] += u[r] * g[q];
-          }
-        }
-      }
-    }
+    alignas(32) double L[3][4];
+    velocity_gradient_gather(st, win, L);
     if (in.vgrad[0] != nullptr) {
       for (int r = 0; r < 3; ++r) {
         for (int q = 0; q < 3; ++q) in.vgrad[3 * r + q][p] = in.inv_h * L[r][q];
