@@ -8,7 +8,8 @@ range over seeds.
 Usage:
   ensemble.py SCENE --out-dir DIR [--seeds 5] [--first-seed 1] [--jobs 1] [--threads 1]
               [--set key=value ...] [--shatter build/release/shatter] [--label NAME]
-  ensemble.py --summarise DIR [DIR ...]     (tables of finished ensembles, one row each)
+  ensemble.py --summarise DIR [DIR ...] [--reference DIR] [--csv FILE]
+              (tables of finished ensembles, one row each)
 
 Each run is `shatter run SCENE --out DIR/seed<S> --threads T --overwrite --set fracture.seed=S
 --set ...` under `/usr/bin/time -v -o DIR/seed<S>.time` (its CPU time) and `nice -n 5`; a run
@@ -27,7 +28,13 @@ its no-core largest fragments 13-17 mm out.
 
 Writes DIR/ensemble.csv (one row per run, then mean, std, min, max rows) and DIR/ensemble.md (a
 markdown table of mean +- std and range, and the per-run rows). Standard deviations are sample
-standard deviations (ddof = 1)."""
+standard deviations (ddof = 1).
+
+--summarise with --reference REF_DIR also compares each ensemble's mean largest m/M with REF_DIR's
+(e.g. a variant against the nominal case over the same seeds): the ratio of the means and their
+difference in standard errors, (m - m_ref) / sqrt(s^2 / n + s_ref^2 / n_ref) (unpaired, sample
+standard deviations). --csv FILE writes every run of every ensemble (one row per run, its
+ensemble's name in the first column): the per-run figures that docs cite."""
 
 import argparse
 import concurrent.futures
@@ -142,6 +149,24 @@ def write_markdown(path, label, rows, stats):
                     f" | {'yes' if r['core'] else 'no'} | {cpu} |\n")
 
 
+def comparison(stats, ref, key="largest_fraction"):
+    """(ratio of means, difference in standard errors) of `key` against a reference ensemble."""
+    m, sd = stats[key][:2]
+    mr, sdr = ref[key][:2]
+    se = np.sqrt(sd**2 / stats["n"] + sdr**2 / ref["n"])
+    return m / mr, ((m - mr) / se if se > 0 else np.nan)
+
+
+def write_runs_csv(path, table):
+    keys = [k for k, _, _ in QUANTITIES] + ["core", "cpu_s", "t_end_us"]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["ensemble", "run"] + keys)
+        for name, rows in table:
+            for r in rows:
+                w.writerow([name, r["run"]] + [r[k] for k in keys])
+
+
 def finished_runs(ens_dir):
     return sorted((os.path.join(ens_dir, d) for d in os.listdir(ens_dir)
                    if d.startswith("seed") and os.path.isdir(os.path.join(ens_dir, d)) and
@@ -164,14 +189,32 @@ def main():
     ap.add_argument("--core-radius", type=float, default=5.0, help="mm (default 5)")
     ap.add_argument("--summarise", nargs="+", metavar="DIR",
                     help="only tabulate finished ensembles, one row each")
+    ap.add_argument("--reference", metavar="DIR",
+                    help="with --summarise: compare each ensemble's largest m/M with this one's")
+    ap.add_argument("--csv", metavar="FILE",
+                    help="with --summarise: write every run's figures to FILE")
     args = ap.parse_args()
 
     if args.summarise:
+        name = lambda d: os.path.basename(os.path.normpath(d))  # noqa: E731
+        table = [(name(d), [summarise_run(r, args.core_radius) for r in finished_runs(d)])
+                 for d in args.summarise]
+        table = [(n, rows) for n, rows in table if rows]
         sys.stdout.write(summary_header())
-        for d in args.summarise:
-            rows = [summarise_run(r, args.core_radius) for r in finished_runs(d)]
-            if rows:
-                sys.stdout.write(summary_row(os.path.basename(os.path.normpath(d)), statistics(rows)))
+        for n, rows in table:
+            sys.stdout.write(summary_row(n, statistics(rows)))
+        if args.reference:
+            ref_rows = [summarise_run(r, args.core_radius) for r in finished_runs(args.reference)]
+            if len(ref_rows) < 2:
+                ap.error(f"--reference: fewer than 2 finished runs in '{args.reference}'")
+            ref = statistics(ref_rows)
+            sys.stdout.write(f"\n| ensemble | largest m/M against {name(args.reference)}: "
+                             "ratio of means | difference in standard errors |\n|---|---|---|\n")
+            for n, rows in table:
+                ratio, z = comparison(statistics(rows), ref)
+                sys.stdout.write(f"| {n} | {ratio:.2f} | {z:+.1f} |\n")
+        if args.csv:
+            write_runs_csv(args.csv, table)
         return 0
 
     if not args.scene or not args.out_dir:
