@@ -71,9 +71,7 @@ double DrivenBodies::constrain(SparseGrid& grid, double dt) const {
       // FLIP particles (v_p += a dt) feel the drive, not only PIC/APIC ones.
       if (dt > 0.0) acc[d][i] += dv / dt;
       vel[d][i] = target;
-      // The kinetic energy the constraint gives the node, M (v^2 - v_free^2) / 2 (see driven.hpp).
-      const double free = vel[d][i] - dv;
-      work += 0.5 * M * (target * target - free * free);
+      work += M * dv * target;  // impulse J_I times the driver's velocity (see driven.hpp)
     }
   }
   return work;
