@@ -3,9 +3,10 @@
 // started with, and so do the grid nodes it touches (scene key `body.NAME.driven`,
 // docs/scenes.md). The grip of a tensile test, a piston, a moving anvil.
 //
-// How (the velocity-controlled material of the MPM literature: Sulsky, Zhou & Schreyer 1995
-// Sec. 4 impose prescribed velocities on the nodes of the material that carries them; Uintah's
-// "rigid" MPM material does the same, Bardenhagen et al. 2000): after the momentum update (end of
+// How (velocity-controlled material as the MPM literature treats it: the prescribed velocity is
+// imposed on the grid nodes the material reaches, as the grid velocity boundary conditions of
+// Sulsky, Zhou & Schreyer 1995 (Comput. Phys. Commun. 87) and Uintah's rigid MPM material do;
+// cited from memory, not re-read for this code): after the momentum update (end of
 // step 4 of App. A.2, Eq. 27) every node the driven particles reach takes their mass-weighted
 // prescribed velocity, v_I = sum_p m_p N_I v*_p / sum_p m_p N_I over driven p, and its
 // acceleration is changed by the same amount over dt, so that the FLIP update of a free particle
