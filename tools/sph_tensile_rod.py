@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tensile rod study with SPH (Benz & Asphaug 1995, Sec. 5.1; issue 10 "Tensile rod").
+"""Tensile rod study with SPH or MPM (Benz & Asphaug 1995, Sec. 5.1; issue 10 "Tensile rod").
 
 Runs the verification test SphTensileRod.DISABLED_Study (tests/verification/sph/
 tensile_rod_test.cpp: a basalt cylinder 1 cm x 4 cm between two grips pulled at 10/s and 60/s,
@@ -8,8 +8,11 @@ and tabulates per rate: first-failure strain, failed fraction, pieces >= 5 % of 
 first crack's speed over c_g = 0.4 c_p (c_p = 4616 m/s) by two estimators (the earliest
 failure per ring around the nucleus, and the time half of each ring has failed), mean +- sample std over seeds.
 
+The grips are the scene's driven bodies (body.NAME.driven = true), so the same scene runs with
+either method: --method mpm sets solver.method = "mpm" (cell = 2 spacings, 2 points per cell).
+
 Usage:
-  sph_tensile_rod.py [--spacing 1.25e-3] [--seeds 3] [--binary build/release/tests/verification_sph]
+  sph_tensile_rod.py [--method sph|mpm] [--spacing 1.25e-3] [--seeds 3] [--binary build/release/tests/verification_sph]
                      [--out FILE.md] [--end-factor 1]
 Run it under nice on a shared machine: one run at 1.25 mm is ~30 s of CPU.
 """
@@ -24,6 +27,7 @@ import sys
 
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--method", choices=["sph", "mpm"], default="sph")
     ap.add_argument("--spacing", type=float, default=1.25e-3)
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--binary", default="build/release/tests/verification_sph")
@@ -32,7 +36,7 @@ def main():
                     help="end time in units of the study's 25.8 us (a longer pull)")
     args = ap.parse_args()
     env = dict(os.environ, SHATTER_ROD_SPACING=str(args.spacing), SHATTER_ROD_SEEDS=str(args.seeds),
-               SHATTER_ROD_END_FACTOR=str(args.end_factor))
+               SHATTER_ROD_END_FACTOR=str(args.end_factor), SHATTER_ROD_METHOD=args.method)
     proc = subprocess.run(
         [args.binary, "--gtest_also_run_disabled_tests", "--gtest_filter=SphTensileRod.DISABLED_Study"],
         env=env, capture_output=True, text=True)
@@ -54,7 +58,7 @@ def main():
             return fmt.format(vals[0])
         return (fmt + " +- " + fmt).format(statistics.mean(vals), statistics.stdev(vals))
 
-    lines = [f"Tensile rod, SPH, spacing {args.spacing * 1e3:g} mm, {args.seeds} seeds "
+    lines = [f"Tensile rod, {args.method.upper()}, spacing {args.spacing * 1e3:g} mm, {args.seeds} seeds "
              f"({int(rows[0]['points'])} rod points, {int(rows[0]['steps'])} steps)", "",
              "| pull rate (1/s) | first failure strain | failed fraction | pieces >= 5 % | "
              "crack speed / c_g (earliest per ring) | (half-failed time per ring) | crack points |",

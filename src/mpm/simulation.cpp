@@ -17,6 +17,7 @@
 
 #include "mpm/boundaries.hpp"
 #include "mpm/contact.hpp"
+#include "mpm/driven.hpp"
 #include "mpm/kernel_inputs.hpp"
 #include "mpm/stage_graph.hpp"
 #include "shatter/core/solver_inputs.hpp"
@@ -192,7 +193,8 @@ struct Simulation::Impl {
   // Multi-velocity-field contact: set only when the scene asks for it and has two bodies or
   // more; otherwise the step is the single-field step, bitwise.
   std::unique_ptr<mpm::Contact> contact;
-  std::vector<double> step4_velocity;  // body-copy node velocities kept through the remap
+  std::unique_ptr<mpm::DrivenBodies> driven;  // prescribed-velocity bodies (set_driven)
+  std::vector<double> step4_velocity;         // body-copy node velocities kept through the remap
   // XPIC (TransferKind::xpic): v^{n+1} kept aside while the grid momentum arrays hold the extra
   // passes, the running (S+ S)^{k-1} term, the filtered velocity V*_m + a dt handed to G2P, and
   // the interpolated velocities S V of one pass at the particles.
@@ -454,6 +456,19 @@ std::uint64_t Simulation::rebalances() const {
   return impl_->rebalances;
 }
 
+void Simulation::set_driven(const std::vector<std::int32_t>& bodies) {
+  if (bodies.empty()) {
+    impl_->driven.reset();
+    return;
+  }
+  if (impl_->dist) {
+    throw std::invalid_argument(
+        "driven bodies (body.NAME.driven) run on one MPI rank only: the prescribed nodes of a "
+        "body that several ranks share are not exchanged");
+  }
+  impl_->driven = std::make_unique<mpm::DrivenBodies>(particles_, bodies);
+}
+
 void Simulation::restore(const Clock& clock, const EnergyBudget& energy) {
   clock_ = clock;
   energy_ = energy;
@@ -657,6 +672,7 @@ void Simulation::Impl::sort() {
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
                     });
+  if (driven) driven->scatter<Shape>(P, grid, stencils(kernels::StencilCache::kLoad), ih);
 }
 
 template <class Shape>
@@ -792,6 +808,8 @@ void Simulation::Impl::grid_update() {
   if (!dist) boundaries.mirror(grid, mpm::Boundaries::kMassMomentumForce);
   boundaries.integrate(grid, sim.config_.gravity, dt_kick, empty_mass, dist ? &halo.owned : nullptr,
                        &removed_sum);
+  // Driven bodies' nodes take the prescribed velocity before contact sees them (driven.hpp).
+  if (driven) sim.energy_.boundary_work -= driven->constrain(grid, dt_kick);
   if (grid.has_copies()) {
     // Contact after the momentum update (end of step 4): G2P hands the particles the corrected
     // velocity and acceleration. What the correction takes out of the nodal kinetic energy is
@@ -932,6 +950,7 @@ void Simulation::Impl::g2p() {
                 const std::uint32_t* nb, kernels::G2PWindow& win) {
         kernels::g2p_block<Shape>(in, run, owner, nb, grid.nodes(), win, energies);
       });
+  if (driven) driven->set_particles(P, dx.data(), dy.data(), dz.data(), kinetic.data(), dt_step);
 }
 
 template <class Shape>

@@ -16,9 +16,9 @@ namespace {
 
 const std::vector<std::string> kShapeKinds = {"sphere",   "ellipsoid", "box",
                                               "cylinder", "mesh",      "union"};
-const std::vector<std::string> kBodyKeys = {"shape",   "material",        "velocity",
-                                            "spacing", "points_per_cell", "energy",
-                                            "mass",    "damage",          "lattice_rotation"};
+const std::vector<std::string> kBodyKeys = {
+    "shape",  "material", "velocity", "spacing",          "points_per_cell",
+    "energy", "mass",     "damage",   "lattice_rotation", "driven"};
 const std::vector<std::string> kMaterialModelKeys = {"eos", "strength"};
 
 std::vector<std::string> shape_keys(const std::string& kind) {
@@ -229,6 +229,13 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   if (!placed_by_impact) b.velocity = r.vec3("velocity", Vec3::Zero());
   r.within("velocity", b.velocity.norm(), 0.0, ranges::kMaxSpeed, "m/s (speed)",
            ranges::kSpeedReason);
+  b.driven = r.boolean("driven", false);
+  r.note_range("driven", "true: the body keeps its initial velocity (a grip, a piston)");
+  if (b.driven && placed_by_impact) {
+    r.fail("driven",
+           "the [impact] projectile cannot be driven (it is placed and launched by "
+           "[impact]; give it a [body] velocity instead)");
+  }
   b.energy = r.non_negative("energy", r.number("energy", 0.0));
   r.within("energy", b.energy, 0.0, ranges::kMaxSpecificEnergy, "J/kg", ranges::kEnergyReason);
 

@@ -58,6 +58,11 @@ class Simulation final : public Solver {
   parallel::Traffic halo_traffic() const;
   parallel::Traffic migrate_traffic() const;
   std::uint64_t rebalances() const;
+  // Driven bodies (scene key body.NAME.driven, src/mpm/driven.hpp): the particles of these
+  // bodies (IField::body values) keep the velocity they have now, and so do the grid nodes they
+  // touch. Call before the first step (and again after a restore). Throws std::invalid_argument
+  // when a body has no particle, or on more than one MPI rank (not supported).
+  void set_driven(const std::vector<std::int32_t>& bodies);
 
   // Restores a checkpointed clock and energy accounts (particles come with the store).
   void restore(const Clock& clock, const EnergyBudget& energy) override;

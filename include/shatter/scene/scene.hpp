@@ -47,6 +47,9 @@ struct BodySpec {
   Vec3 velocity = Vec3::Zero();   // m/s
   double spacing = 0.0;           // m, between neighbouring points (also size0 for uGIMP)
   double energy = 0.0;            // J/kg, initial specific internal energy
+  // Prescribed velocity (`driven`): the body keeps its initial velocity for the whole run and
+  // drags what it touches (src/mpm/driven.hpp; SPH: SphSolver::set_velocity_constraint).
+  bool driven = false;
   // Turns the point lattice about the origin (`lattice_rotation`); identity: aligned with the grid.
   Eigen::Matrix3d lattice_rotation = Eigen::Matrix3d::Identity();
   LatticeFill fill;  // the body's points (half model clipped)
