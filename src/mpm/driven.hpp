@@ -3,10 +3,9 @@
 // started with, and so do the grid nodes it touches (scene key `body.NAME.driven`,
 // docs/scenes.md). The grip of a tensile test, a piston, a moving anvil.
 //
-// How (velocity-controlled material as the MPM literature treats it: the prescribed velocity is
-// imposed on the grid nodes the material reaches, as the grid velocity boundary conditions of
-// Sulsky, Zhou & Schreyer 1995 (Comput. Phys. Commun. 87) and Uintah's rigid MPM material do;
-// cited from memory, not re-read for this code): after the momentum update (end of
+// How: the prescribed velocity is imposed on the grid nodes the material reaches, as grid
+// velocity boundary conditions are imposed in MPM since Sulsky, Zhou & Schreyer 1995 (Comput.
+// Phys. Commun. 87, 236-252, doi:10.1016/0010-4655(94)00170-7): after the momentum update (end of
 // step 4 of App. A.2, Eq. 27) every node the driven particles reach takes their mass-weighted
 // prescribed velocity, v_I = sum_p m_p N_I v*_p / sum_p m_p N_I over driven p, and its
 // acceleration is changed by the same amount over dt, so that the FLIP update of a free particle
