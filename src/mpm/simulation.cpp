@@ -28,6 +28,23 @@
 namespace shatter {
 namespace {
 
+// Calls f.operator()<Shape>() with the shape-function type the scene chose, so that each stage
+// is compiled for one shape and a shape switch is written once.
+template <class F>
+void with_shape(ShapeKind kind, F&& f) {
+  switch (kind) {
+    case ShapeKind::linear:
+      f.template operator()<kernels::LinearShape>();
+      break;
+    case ShapeKind::ugimp:
+      f.template operator()<kernels::GimpShape>();
+      break;
+    case ShapeKind::bspline2:
+      f.template operator()<kernels::BSpline2Shape>();
+      break;
+  }
+}
+
 using mpm::Access;
 using mpm::Resource;
 
@@ -383,32 +400,12 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
   }
 
   impl_->arena.execute([&] {
-    switch (config_.shape) {
-      case ShapeKind::linear:
-        impl_->build_stages<kernels::LinearShape>();
-        break;
-      case ShapeKind::ugimp:
-        impl_->build_stages<kernels::GimpShape>();
-        break;
-      case ShapeKind::bspline2:
-        impl_->build_stages<kernels::BSpline2Shape>();
-        break;
-    }
+    with_shape(config_.shape, [&]<class Shape>() { impl_->build_stages<Shape>(); });
     impl_->check_finite();
     if (impl_->dist) {
       // Every rank built the whole scene (the same bits: flaws are drawn per particle id);
       // each keeps the particles of its piece of the curve.
-      switch (config_.shape) {
-        case ShapeKind::linear:
-          impl_->distribute<kernels::LinearShape>();
-          break;
-        case ShapeKind::ugimp:
-          impl_->distribute<kernels::GimpShape>();
-          break;
-        case ShapeKind::bspline2:
-          impl_->distribute<kernels::BSpline2Shape>();
-          break;
-      }
+      with_shape(config_.shape, [&]<class Shape>() { impl_->distribute<Shape>(); });
     }
     // Initial energy: v^0 is both the "synchronised" and the stored velocity at t = 0.
     const auto& P = particles_;
