@@ -21,10 +21,17 @@ failed). For every run the script measures:
    at every resolution is a mesh-size effect of local damage.
 3. *The pulse on the antipodal axis* (runs with snapshots at least every 1 us): the radial stress
    sigma_rr = u.sigma.u (u the unit vector from the impact point's side through the centre) of
-   the points within 2.5 mm of the axis through the centre opposite the impact point, in 0.5 mm
-   bins of initial distance from the centre, at 8, 10 and 12 us: the compressive peak, its full
-   width at half maximum (mm) and the integral of the compression along the axis (MPa mm); and,
-   per 2 mm bin of that distance, the first snapshot at which half the bin's points have failed.
+   the points within 2.5 mm of the axis through the impact point and the centre, in 0.5 mm
+   bins of initial distance from the centre, at 8, 10 and 12 us: the direct pulse's compressive
+   peak, the width of the connected range above half of it (FWHM, mm) and the integral of the
+   connected compression (MPa mm; at 8 us it still joins the crater's compression). Per 2 mm bin
+   of distance on the antipodal side: the first snapshot at which half the bin's points have
+   failed, and the median over its points of the largest principal stress each carried while
+   intact up to --tension-until-us (16 us: the direct pulse's first reflection).
+   *Tension front* (the same runs): per sector, where half a shell's points have carried more
+   than --sigma-fail (40 MPa, eps_max E of the basalt's flaws) while intact by
+   --tension-until-us. Meant for runs without failure (`body.target.damage.weibull_k=1e20`):
+   with damage on, a point fails within a step of reaching it and snapshots miss the peak.
 4. *Flaws* (runs with a checkpoint.h5 holding eps_max and weibull_m): the strain at which a
    point's damage cap (n_act / n_f)^(1/3) = (eps / eps_max)^(m_p/3) (Eqs. 17 and 22) reaches
    the failure threshold, as a fraction of eps_max (5th, 50th, 95th percentile): whether the
@@ -51,6 +58,7 @@ SECTORS = {"far": (-1.01, -0.5), "side": (-0.5, 0.5), "near": (0.5, 1.01)}
 R_EDGES_MM = np.arange(0.0, 30.01, 1.5)
 BAND_EDGES_MM = np.arange(12.0, 27.01, 3.0)
 PULSE_TIMES_US = (8.0, 10.0, 12.0)
+PULSE_FROM_MM = {8.0: -5.0, 10.0: 0.0, 12.0: 5.0}  # where to look for the direct pulse's peak
 AXIS_RADIUS = 2.5e-3
 AXIS_BIN = 0.5e-3
 
@@ -186,24 +194,43 @@ def principal_stress_rr(stress, u):
             + 2 * (u[0] * u[1] * xy + u[0] * u[2] * xz + u[1] * u[2] * yz))
 
 
-def pulse(run):
-    """The compressive pulse on the antipodal axis, and when its points fail; None without dense
-    snapshots."""
-    times = np.array([read_time(p) for p in run.files]) * 1e6
-    if len(times) < 3 or np.diff(times[:30]).max() > 1.0 + 1e-6:
+def principal_max(stress):
+    """Largest principal value of each stress (Tensor6 order xx, xy, xz, yy, yz, zz)."""
+    xx, xy, xz, yy, yz, zz = stress.T
+    m = np.stack([np.stack([xx, xy, xz], -1), np.stack([xy, yy, yz], -1),
+                  np.stack([xz, yz, zz], -1)], -2)
+    return np.linalg.eigvalsh(m)[:, -1]
+
+
+def dense(run):
+    return len(run.files) >= 3 and np.diff(
+        [read_time(p) for p in run.files[:30]]).max() <= 1e-6 * (1 + 1e-6)
+
+
+def pulse(run, until_us):
+    """The compressive pulse on the axis through the impact point and the centre, the largest
+    tension its points carry while intact until `until_us`, and when they fail; None without
+    dense snapshots."""
+    if not dense(run):
         return None
+    times = np.array([read_time(p) for p in run.files]) * 1e6
     u = -run.u_impact
     x = run.pos0 @ u
-    sel = (x > 0) & (np.linalg.norm(run.pos0 - np.outer(x, u), axis=1) < AXIS_RADIUS)
+    sel = np.linalg.norm(run.pos0 - np.outer(x, u), axis=1) < AXIS_RADIUS
     xs = x[sel]
-    edges = np.arange(0.0, run.radius + 1e-9, AXIS_BIN)
+    edges = np.arange(-run.radius, run.radius + 1e-9, AXIS_BIN)
     mids = 0.5 * (edges[1:] + edges[:-1])
     which = np.digitize(xs, edges) - 1
     profiles, peaks = {}, []
     dmg = []
+    tmax = np.full(sel.sum(), -np.inf)
     for path, t in zip(run.files, times):
         s = run.at(path, ["stress", "damage"])
-        dmg.append(s["damage"][sel] >= run.threshold)
+        failed = s["damage"][sel] >= run.threshold
+        dmg.append(failed)
+        if t <= until_us + 1e-6:
+            s1 = principal_max(s["stress"][sel]) / 1e6
+            tmax = np.where(failed, tmax, np.maximum(tmax, s1))
         near = [t0 for t0 in PULSE_TIMES_US if abs(t - t0) < 0.05]
         if near:
             srr = principal_stress_rr(s["stress"][sel], u) / 1e6
@@ -212,12 +239,25 @@ def pulse(run):
             ok = np.isfinite(prof)
             prof = np.interp(mids, mids[ok], prof[ok])
             profiles[near[0]] = prof
-            k = int(np.argmin(prof))
+            # the direct pulse's peak, ahead of the compression behind it near the crater
+            k = int(np.argmin(np.where(mids >= PULSE_FROM_MM[near[0]] * 1e-3, prof, np.inf)))
             p = -prof[k]
-            half = np.where(-prof >= 0.5 * p)[0]
+            # the compressive pulse: the connected range around the peak above half of it
+            lo = k
+            while lo > 0 and -prof[lo - 1] >= 0.5 * p:
+                lo -= 1
+            hi = k
+            while hi < len(prof) - 1 and -prof[hi + 1] >= 0.5 * p:
+                hi += 1
+            zero_lo = k
+            while zero_lo > 0 and prof[zero_lo - 1] < 0:
+                zero_lo -= 1
+            zero_hi = k
+            while zero_hi < len(prof) - 1 and prof[zero_hi + 1] < 0:
+                zero_hi += 1
             peaks.append({"t_us": near[0], "peak_MPa": p, "at_mm": 1e3 * mids[k],
-                          "fwhm_mm": 1e3 * (mids[half[-1]] - mids[half[0]] + AXIS_BIN),
-                          "integral_MPa_mm": -np.minimum(prof, 0).sum() * AXIS_BIN * 1e3})
+                          "fwhm_mm": 1e3 * (hi - lo + 1) * AXIS_BIN,
+                          "integral_MPa_mm": -prof[zero_lo:zero_hi + 1].sum() * AXIS_BIN * 1e3})
     dmg = np.array(dmg)
     fail_rows = []
     for a in np.arange(8.0, 30.0, 2.0):
@@ -226,8 +266,39 @@ def pulse(run):
         k = np.where(frac >= 0.5)[0]
         fail_rows.append({"x_lo_mm": a, "x_hi_mm": a + 2,
                           "t_half_failed_us": float(times[k[0]]) if len(k) else float("nan"),
-                          "failed_end": float(frac[-1])})
+                          "failed_end": float(frac[-1]),
+                          "max_tension_intact_MPa": float(np.median(tmax[m]))})
     return {"mids_mm": 1e3 * mids, "profiles": profiles, "peaks": peaks, "fail": fail_rows}
+
+
+def tension_front(run, until_us, sigma_fail):
+    """Per sector, the fraction of each shell whose largest principal stress exceeded sigma_fail
+    (while intact) by until_us, and the radius where that fraction falls below one half; None
+    without dense snapshots."""
+    if not dense(run):
+        return None
+    tmax = np.full(len(run.ids), -np.inf)
+    for path in run.files:
+        if read_time(path) > until_us * 1e-6 * (1 + 1e-9):
+            break
+        s = run.at(path, ["stress", "damage"])
+        intact = s["damage"] < run.threshold
+        tmax = np.where(intact, np.maximum(tmax, principal_max(s["stress"])), tmax)
+    over = tmax >= sigma_fail
+    mids = 0.5 * (R_EDGES_MM[1:] + R_EDGES_MM[:-1])
+    out = {}
+    for name, (lo, hi) in SECTORS.items():
+        m = (run.cos >= lo) & (run.cos < hi)
+        frac = np.array([over[m & (run.r0 >= a * 1e-3) & (run.r0 < b * 1e-3)].mean()
+                         for a, b in zip(R_EDGES_MM[:-1], R_EDGES_MM[1:])])
+        front = float("nan")
+        for k in range(len(mids) - 1):
+            if mids[k] >= 12.0 and frac[k] <= 0.5 < frac[k + 1]:
+                front = mids[k] + (0.5 - frac[k]) / (frac[k + 1] - frac[k]) * (
+                    mids[k + 1] - mids[k])
+                break
+        out[name] = {"front_mm": front, "over": frac.tolist()}
+    return out
 
 
 def flaws(run):
@@ -268,6 +339,10 @@ def main():
     ap.add_argument("--out", default="out/lab-rim.png")
     ap.add_argument("--end-us", type=float, default=100.0,
                     help="ignore snapshots after this time (us)")
+    ap.add_argument("--tension-until-us", type=float, default=16.0,
+                    help="largest tension while intact: up to this time (us)")
+    ap.add_argument("--sigma-fail", type=float, default=40e6,
+                    help="tension (Pa) counted as failing in the tension front")
     a = ap.parse_args()
     runs = [Run(d, a.end_us) for d in a.run_dirs]
     labels = a.labels or [f"{1e3 * r.spacing:.1f} mm" for r in runs]
@@ -280,7 +355,9 @@ def main():
     for run, name in zip(runs, labels):
         sh, fr = shells(run)
         results.append({"name": name, "run": run, "shells": sh, "fronts": fr,
-                        "bands": bands(run), "pulse": pulse(run), "flaws": flaws(run)})
+                        "bands": bands(run), "pulse": pulse(run, a.tension_until_us),
+                        "tension": tension_front(run, a.tension_until_us, a.sigma_fail),
+                        "flaws": flaws(run)})
     extra = [{"run": r["run"].dir, "label": r["name"],
               "spacing_mm": f"{1e3 * r['run'].spacing:.3g}"} for r in results]
     write_csv(a.csv_prefix + "_shells.csv", [r["shells"] for r in results], extra)
@@ -297,6 +374,16 @@ def main():
         last = max(f["t_us"] for f in r["fronts"])
         f = {x["sector"]: x["front_mm"] for x in r["fronts"] if x["t_us"] == last}
         print(f"| {r['name']} | {last:.0f} | {f['far']:.1f} | {f['side']:.1f} | {f['near']:.1f} |")
+    print("\n## The front against time (far / side sector, mm; nan: no crossing yet)\n")
+    when = (14.0, 16.0, 20.0, 25.0, 30.0, 40.0, 100.0)
+    print("| run | " + " | ".join(f"{t:.0f} us" for t in when) + " |")
+    print("|---" * (len(when) + 1) + "|")
+    for r in results:
+        cells = []
+        for t in when:
+            f = {x["sector"]: x["front_mm"] for x in r["fronts"] if abs(x["t_us"] - t) < 0.05}
+            cells.append(f"{f['far']:.1f} / {f['side']:.1f}" if f else "")
+        print(f"| {r['name']} | " + " | ".join(cells) + " |")
     print("\n## Failed bands along lattice lines, last snapshot\n")
     print("| run | shell (mm) | failed | failed runs per mm | mean run (points) | mean run (mm) |"
           "\n|---|---|---|---|---|---|")
@@ -319,7 +406,18 @@ def main():
         for k, f in enumerate(dense[0]["pulse"]["fail"]):
             cells = [r["pulse"]["fail"][k] for r in dense]
             print(f"| {f['x_lo_mm']:.0f}-{f['x_hi_mm']:.0f} | " + " | ".join(
-                f"{c['t_half_failed_us']:.1f} ({c['failed_end']:.2f})" for c in cells) + " |")
+                f"{c['t_half_failed_us']:.1f} ({c['failed_end']:.2f}; {c['max_tension_intact_MPa']:.0f})"
+                for c in cells) + " |")
+    print("\n(first time half the bin failed, us; the bin's failed fraction at the end; the median"
+          f" of its points' largest tension while intact up to {a.tension_until_us:g} us, MPa)")
+    print(f"\n## Tension front: where half the shell exceeded {a.sigma_fail / 1e6:g} MPa while"
+          f" intact by {a.tension_until_us:g} us\n")
+    print("| run | far (mm) | side (mm) | near (mm) |\n|---|---|---|---|")
+    for r in results:
+        if r["tension"]:
+            tf = r["tension"]
+            print(f"| {r['name']} | {tf['far']['front_mm']:.1f} | {tf['side']['front_mm']:.1f} | "
+                  f"{tf['near']['front_mm']:.1f} |")
     print("\n## Flaws: failure strain over eps_max (5th, 50th, 95th percentile)\n")
     for r in results:
         if r["flaws"]:
