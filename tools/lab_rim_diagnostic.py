@@ -28,17 +28,18 @@ failed). For every run the script measures:
    of distance on the antipodal side: the first snapshot at which half the bin's points have
    failed, and the median over its points of the largest principal stress each carried while
    intact up to --tension-until-us (16 us: the direct pulse's first reflection).
-   *Tension front* (the same runs): per sector, where half a shell's points have carried more
-   than --sigma-fail (40 MPa, eps_max E of the basalt's flaws) while intact by
-   --tension-until-us. Meant for runs without failure (`body.target.damage.weibull_k=1e20`):
-   with damage on, a point fails within a step of reaching it and snapshots miss the peak.
+   In a run without failure (`body.target.damage.weibull_k=1e20`) that is the tension the
+   undamaged target would carry; with damage on, a point fails within a step of reaching
+   eps_max E and the snapshots miss its peak.
 4. *Flaws* (runs with a checkpoint.h5 holding eps_max and weibull_m): the strain at which a
    point's damage cap (n_act / n_f)^(1/3) = (eps / eps_max)^(m_p/3) (Eqs. 17 and 22) reaches
    the failure threshold, as a fraction of eps_max (5th, 50th, 95th percentile): whether the
    failure strain depends on the point's volume through n_f and m_p.
 
-Writes CSV files (--csv-prefix: _shells.csv, _bands.csv, _pulse.csv, _front.csv) and a figure
-(--out, four panels), and prints the tables as markdown.
+Writes CSV files (--csv-prefix: _shells.csv, _front.csv, _bands.csv, _pulse.csv,
+_axis_failure.csv) and a figure (--out: the pulse along the axis at 12 us, the failed fraction
+per shell in the far and side sectors, the failed layer's depth against the pulse's width, when
+the antipodal axis fails), and prints the tables as markdown.
 """
 
 import argparse
@@ -271,36 +272,6 @@ def pulse(run, until_us):
     return {"mids_mm": 1e3 * mids, "profiles": profiles, "peaks": peaks, "fail": fail_rows}
 
 
-def tension_front(run, until_us, sigma_fail):
-    """Per sector, the fraction of each shell whose largest principal stress exceeded sigma_fail
-    (while intact) by until_us, and the radius where that fraction falls below one half; None
-    without dense snapshots."""
-    if not dense(run):
-        return None
-    tmax = np.full(len(run.ids), -np.inf)
-    for path in run.files:
-        if read_time(path) > until_us * 1e-6 * (1 + 1e-9):
-            break
-        s = run.at(path, ["stress", "damage"])
-        intact = s["damage"] < run.threshold
-        tmax = np.where(intact, np.maximum(tmax, principal_max(s["stress"])), tmax)
-    over = tmax >= sigma_fail
-    mids = 0.5 * (R_EDGES_MM[1:] + R_EDGES_MM[:-1])
-    out = {}
-    for name, (lo, hi) in SECTORS.items():
-        m = (run.cos >= lo) & (run.cos < hi)
-        frac = np.array([over[m & (run.r0 >= a * 1e-3) & (run.r0 < b * 1e-3)].mean()
-                         for a, b in zip(R_EDGES_MM[:-1], R_EDGES_MM[1:])])
-        front = float("nan")
-        for k in range(len(mids) - 1):
-            if mids[k] >= 12.0 and frac[k] <= 0.5 < frac[k + 1]:
-                front = mids[k] + (0.5 - frac[k]) / (frac[k + 1] - frac[k]) * (
-                    mids[k + 1] - mids[k])
-                break
-        out[name] = {"front_mm": front, "over": frac.tolist()}
-    return out
-
-
 def flaws(run):
     path = os.path.join(run.dir, "checkpoint.h5")
     if not os.path.exists(path):
@@ -318,10 +289,19 @@ def flaws(run):
             "fail_strain_over_eps_max": np.percentile(ratio, [5, 50, 95]).tolist()}
 
 
+CSV_TIMES_US = (8.0, 10.0, 12.0, 14.0, 16.0, 20.0, 30.0, 40.0, 60.0, 100.0)
+
+
+def kept_time(t_us):
+    """The times the time-resolved CSVs keep (CSV_TIMES_US)."""
+    return any(abs(t_us - t) < 0.05 for t in CSV_TIMES_US)
+
+
 def write_csv(path, rows, extra):
-    if not rows:
+    rows = [[r for r in g if "t_us" not in r or kept_time(r["t_us"])] for g in rows]
+    if not any(rows):
         return
-    keys = list(extra[0].keys()) + list(rows[0][0].keys())
+    keys = list(extra[0].keys()) + list(next(g for g in rows if g)[0].keys())
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys)
         w.writeheader()
@@ -341,8 +321,6 @@ def main():
                     help="ignore snapshots after this time (us)")
     ap.add_argument("--tension-until-us", type=float, default=16.0,
                     help="largest tension while intact: up to this time (us)")
-    ap.add_argument("--sigma-fail", type=float, default=40e6,
-                    help="tension (Pa) counted as failing in the tension front")
     a = ap.parse_args()
     runs = [Run(d, a.end_us) for d in a.run_dirs]
     labels = a.labels or [f"{1e3 * r.spacing:.1f} mm" for r in runs]
@@ -356,9 +334,8 @@ def main():
         sh, fr = shells(run)
         results.append({"name": name, "run": run, "shells": sh, "fronts": fr,
                         "bands": bands(run), "pulse": pulse(run, a.tension_until_us),
-                        "tension": tension_front(run, a.tension_until_us, a.sigma_fail),
                         "flaws": flaws(run)})
-    extra = [{"run": r["run"].dir, "label": r["name"],
+    extra = [{"label": r["name"],
               "spacing_mm": f"{1e3 * r['run'].spacing:.3g}"} for r in results]
     write_csv(a.csv_prefix + "_shells.csv", [r["shells"] for r in results], extra)
     write_csv(a.csv_prefix + "_front.csv", [r["fronts"] for r in results], extra)
@@ -406,18 +383,10 @@ def main():
         for k, f in enumerate(dense[0]["pulse"]["fail"]):
             cells = [r["pulse"]["fail"][k] for r in dense]
             print(f"| {f['x_lo_mm']:.0f}-{f['x_hi_mm']:.0f} | " + " | ".join(
-                f"{c['t_half_failed_us']:.1f} ({c['failed_end']:.2f}; {c['max_tension_intact_MPa']:.0f})"
-                for c in cells) + " |")
+                f"{c['t_half_failed_us']:.1f} ({c['failed_end']:.2f}; "
+                f"{c['max_tension_intact_MPa']:.0f})" for c in cells) + " |")
     print("\n(first time half the bin failed, us; the bin's failed fraction at the end; the median"
           f" of its points' largest tension while intact up to {a.tension_until_us:g} us, MPa)")
-    print(f"\n## Tension front: where half the shell exceeded {a.sigma_fail / 1e6:g} MPa while"
-          f" intact by {a.tension_until_us:g} us\n")
-    print("| run | far (mm) | side (mm) | near (mm) |\n|---|---|---|---|")
-    for r in results:
-        if r["tension"]:
-            tf = r["tension"]
-            print(f"| {r['name']} | {tf['far']['front_mm']:.1f} | {tf['side']['front_mm']:.1f} | "
-                  f"{tf['near']['front_mm']:.1f} |")
     print("\n## Flaws: failure strain over eps_max (5th, 50th, 95th percentile)\n")
     for r in results:
         if r["flaws"]:
@@ -441,19 +410,21 @@ def main():
             f = r["pulse"]["fail"]
             axes[1, 1].plot([0.5 * (x["x_lo_mm"] + x["x_hi_mm"]) for x in f],
                             [x["t_half_failed_us"] for x in f], marker="o", ms=3, **style)
-        axes[1, 0].plot([r["run"].spacing * 1e3],
-                        [x["front_mm"] for x in r["fronts"] if x["t_us"] == last
-                         and x["sector"] == "far"], marker="o", ls="", **style)
-        axes[1, 0].plot([r["run"].spacing * 1e3],
-                        [x["front_mm"] for x in r["fronts"] if x["t_us"] == last
-                         and x["sector"] == "side"], marker="s", ls="", mfc="none",
-                        color=style["color"])
+        if r["pulse"] and any(p["t_us"] == 12.0 for p in r["pulse"]["peaks"]):
+            width = [p["fwhm_mm"] for p in r["pulse"]["peaks"] if p["t_us"] == 12.0][0]
+            for name, marker, fill in (("far", "o", None), ("side", "s", "none")):
+                front = [x["front_mm"] for x in r["fronts"] if x["t_us"] == last
+                         and x["sector"] == name][0]
+                axes[1, 0].plot([width], [1e3 * r["run"].radius - front], marker=marker,
+                                ls="", mfc=fill, **(style if name == "far" else
+                                                    {"color": style["color"]}))
     axes[0, 0].set_xlabel("initial distance from the centre along the antipodal axis (mm)")
     axes[0, 0].set_ylabel("sigma_rr at 12 us (MPa, tension > 0)")
+    axes[0, 0].set_xlim(0.0, 30.0)  # the antipodal half; the crater's compression lies at x < 0
     axes[0, 1].set_xlabel("initial distance from the target centre (mm)")
     axes[0, 1].set_ylabel("failed at the last snapshot (%): far sector -, side --")
-    axes[1, 0].set_xlabel("point spacing (mm)")
-    axes[1, 0].set_ylabel("front radius (mm): far o, side square")
+    axes[1, 0].set_xlabel("FWHM of the direct pulse on the antipodal axis at 12 us (mm)")
+    axes[1, 0].set_ylabel("failed layer: radius - front (mm); far o, side square")
     axes[1, 1].set_xlabel("initial distance from the centre along the antipodal axis (mm)")
     axes[1, 1].set_ylabel("half the bin failed at (us)")
     for ax in axes.flat:
