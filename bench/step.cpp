@@ -7,15 +7,19 @@
 //
 // Counters: items/s = particle-steps per second; bytes/particle = registered particle columns +
 // Simulation::grid_bytes() / particles; resident_bytes/particle = growth of the resident set over
-// construction and steps (all the step's memory); <stage>_ns = wall time of that stage per
-// particle-step from Simulation::stage_timings() (stages overlap only where the graph lets them:
-// energy and time_step).
+// construction and steps (all the step's memory; it moves with where the allocator places the
+// blocks that earlier calls freed: +-100 B between runs at 1e5); allocated_bytes/particle = the
+// bytes the Simulation holds allocated after the timed steps (malloc's count of bytes in use,
+// not of pages: no allocator slack, the same in every run); <stage>_ns = wall time of that stage
+// per particle-step from Simulation::stage_timings() (stages overlap only where the graph lets
+// them: energy and time_step).
 //
 // BM_StepContact: the same body cut at its mid-plane z into two bodies (two particle groups,
 // IField::body 0 and 1) whose halves approach at 2 m/s, so the whole cross-section is an
 // interface; `single_field` and `multi_field` (solver.contact) on identical particles give the
 // cost of multi-velocity-field contact (grid copies where the bodies meet, the extra mass-gradient
 // scatter, the pair corrections) against the shared field.
+#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -44,6 +48,12 @@ double resident_bytes() {
   return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
 }
 
+// Bytes the process holds allocated through malloc (in use, heap and mmap).
+double allocated_bytes() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd);
+}
+
 void BM_Step(benchmark::State& state, ShapeKind shape) {
   const auto threads = static_cast<int>(state.range(1));
   SolverConfig cfg;
@@ -54,6 +64,7 @@ void BM_Step(benchmark::State& state, ShapeKind shape) {
   // Google Benchmark calls this function several times (to pick the iteration count), and
   // memory freed by one call is reused by the next: measure from before the first call.
   static const double rss0 = resident_bytes();
+  const double allocated0 = allocated_bytes();
   Simulation sim(cfg, bench::make_body(state.range(0), kDrift), std::move(materials), threads);
   sim.step();  // warm-up: first allocation of the grid and the step-0 column re-order
   const std::vector<StageTiming> before = sim.stage_timings();
@@ -66,6 +77,7 @@ void BM_Step(benchmark::State& state, ShapeKind shape) {
   // the copy kept for a retake), as the growth of the resident set since the first call; with
   // one benchmark per process (tools/plot_step_scaling.py) the peak footprint of the step.
   state.counters["resident_bytes/particle"] = (resident_bytes() - rss0) / n;
+  state.counters["allocated_bytes/particle"] = (allocated_bytes() - allocated0) / n;
   const double steps = static_cast<double>(state.iterations());
   for (std::size_t s = 0; s < after.size(); ++s) {
     const double ns = 1e9 * (after[s].seconds - before[s].seconds) / (steps * n);

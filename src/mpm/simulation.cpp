@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <numeric>
 #include <unordered_map>
+#include <utility>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -115,6 +117,34 @@ const FieldSet kEngineFields =
     FieldSet{Field::mass,   Field::volume0,  Field::size0,     Field::rho,
              Field::energy, Field::pressure, Field::soundspeed};
 
+// What the step retake (Simulation::step) need not save. Constant: no stage writes these
+// columns (mass, reference volume and size of the material point, and its flaw population: the
+// damage models read eps_min, eps_max, n_flaws and weibull_m and store them back unchanged), nor
+// the integer columns (id, body, fragment). Step-local: each step writes them for every particle
+// before any stage reads them: the strain and spin increments (the velocity-gradient stage, App.
+// A.2 step 7, before the constitutive update reads them), and pressure and sound speed, which
+// MaterialModel::update sets for step n+1 from the rest of the state (its contract; the
+// time-step and energy stages read them after it). Every other registered column is saved, so
+// a column added later is saved unless it is listed here.
+constexpr FieldSet kStepConstant{Field::mass,    Field::volume0, Field::size0,    Field::eps_min,
+                                 Field::eps_max, Field::n_flaws, Field::weibull_m};
+constexpr FieldSet kStepLocal =
+    kStrainIncrement | kSpinIncrement | FieldSet{Field::pressure, Field::soundspeed};
+
+// Copies n values of `columns` columns in parallel chunks: copy(column, begin, end).
+template <class Copy>
+void copy_columns(std::size_t columns, std::size_t n, Copy&& copy) {
+  constexpr std::size_t kGrain = 16384;  // 128 KiB of doubles
+  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, columns * chunks),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t c = k / chunks, b = (k % chunks) * kGrain;
+                        copy(c, b, std::min(b + kGrain, n));
+                      }
+                    });
+}
+
 // APIC's C_p columns in row-major order, as the transfer kernels index them.
 template <class T>
 void vgrad_columns(ParticleStore& P, T* (&out)[9]) {
@@ -220,13 +250,29 @@ struct Simulation::Impl {
   double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
   double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
   double empty_mass = 0.0;     // nodes lighter than this are treated as empty
-  // The state before the step being taken, to take it again (Simulation::step).
+  // The state before the step being taken, to take it again (Simulation::step): the columns
+  // the step changes, and a record of what the attempt under way did to the store's layout
+  // (re-order, outflow, migration), which the restore undoes. Constant and step-local columns
+  // (kStepConstant, kStepLocal) are not copied.
   struct Saved {
-    ParticleStore particles;
+    std::vector<Field> fields;                // registered columns the step writes
+    std::vector<AlignedVector<double>> cols;  // their values at t^n, in the order of `fields`
+    std::vector<Group> groups;                // the groups at t^n
     Clock clock;
     EnergyBudget energy;
     double internal_next = 0.0;
+    bool armed = false;     // the attempt under way may be retaken: record layout changes
+    bool permuted = false;  // the sort stage re-ordered the store by `order`
+    // Outflow removed the particles flagged here (over the store before the removal; empty:
+    // none); their unsaved columns, in store order.
+    std::vector<std::uint8_t> left;
+    std::array<std::vector<double>, kFieldCount> left_rows;
+    std::array<std::vector<std::int64_t>, kIFieldCount> left_irows;
+    bool whole = false;   // migration moved particles; `store` is the whole store at t^n
+    ParticleStore store;  // (the store migration replaced, moved here rather than freed)
+    StageTiming timing{"retake_copy", 0.0};  // wall time of the saves and restores
   } saved;
+  std::vector<StageTiming> timings;  // stage_timings(): the graph's and the retake's
 
   Impl(Simulation& s, int threads)
       : sim(s),
@@ -279,6 +325,12 @@ struct Simulation::Impl {
   bool decomp_planes_empty() const;
   void finish_step();
   double global(parallel::ExactSum s) const;
+  // The step retake (Simulation::step)
+  bool saves(Field f) const;
+  void save_step();
+  void restore_step();
+  void keep_leaving(std::span<const std::uint8_t> leaving);
+  void undo_outflow();
 };
 
 Simulation::Simulation(SolverConfig config, ParticleStore particles,
@@ -441,7 +493,11 @@ double Simulation::grid_mass() const {
   return std::accumulate(m.begin(), m.end(), 0.0);
 }
 const std::vector<StageTiming>& Simulation::stage_timings() const {
-  return impl_->graph.timings();
+  // The graph's stages, then the retake's copies, which step() makes outside the graph.
+  std::vector<StageTiming>& out = impl_->timings;
+  out = impl_->graph.timings();
+  out.push_back(impl_->saved.timing);
+  return out;
 }
 parallel::Traffic Simulation::halo_traffic() const {
   return impl_->halo_traffic;
@@ -492,16 +548,25 @@ void Simulation::step() {
   // cannot be predicted from particle data at t^n (before contact nothing is compressed), so
   // when the stable step of the state left is shorter than the step taken by more than
   // retake_ratio, the step is taken again with that shorter step. The decision compares two
-  // exact maxima (Eq. 34), so it is the same on any thread count. Cost: one copy of the particle
-  // columns per step (+7 % CPU time in the far-flyer scene, none retaken; docs/stability.md).
+  // exact maxima (Eq. 34), so it is the same on any thread count. Cost: one copy per step of the
+  // columns the step writes (docs/stability.md, docs/performance.md).
+  // What is saved is what the step writes and reads first (positions, velocities, density,
+  // stress, energy, model state; kStepConstant and kStepLocal name what is not), and the
+  // restore undoes the attempt's re-order, outflow removals and migration, so a retaken step
+  // starts from the bits it started from before (StepRetake.RetakeRestoresTheStateBitwise).
+  Impl::Saved& sv = impl_->saved;
+  const auto timed = [&](auto&& f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    impl_->arena.execute(f);
+    sv.timing.seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
   const bool may_retake = config_.retake_ratio > 0.0;
-  if (may_retake) {
-    impl_->saved.particles = particles_;  // copy-assignment reuses the buffers of the last step
-    impl_->saved.clock = clock_;
-    impl_->saved.energy = energy_;
-    impl_->saved.internal_next = impl_->internal_next;
-  }
+  if (may_retake) timed([&] { impl_->save_step(); });
   for (int attempt = 0;; ++attempt) {
+    sv.armed = may_retake;
+    sv.permuted = sv.whole = false;
+    sv.left.clear();
     impl_->dt_step = clock_.dt;
     impl_->arena.execute([&] { impl_->graph.run(); });
     impl_->finish_step();
@@ -510,13 +575,109 @@ void Simulation::step() {
       break;
     }
     const double shorter = clock_.dt;
-    particles_ = impl_->saved.particles;
-    clock_ = impl_->saved.clock;
-    energy_ = impl_->saved.energy;
-    impl_->internal_next = impl_->saved.internal_next;
+    timed([&] { impl_->restore_step(); });
     clock_.dt = shorter;
     ++retakes_;
   }
+  sv.armed = false;
+  sv.store = ParticleStore{};  // a store migration replaced is freed, as it was before
+}
+
+bool Simulation::Impl::saves(Field f) const {
+  return sim.particles_.has(f) && !kStepConstant.has(f) && !kStepLocal.has(f);
+}
+
+void Simulation::Impl::save_step() {
+  const ParticleStore& P = sim.particles_;
+  const std::size_t n = P.size();
+  saved.fields.clear();
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    if (saves(static_cast<Field>(i))) saved.fields.push_back(static_cast<Field>(i));
+  }
+  saved.cols.resize(saved.fields.size());
+  for (auto& c : saved.cols) c.resize(n);  // reuses the buffers of the last step
+  copy_columns(saved.fields.size(), n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    const double* src = P.col(saved.fields[c]).data();
+    std::copy(src + b, src + e, saved.cols[c].data() + b);
+  });
+  saved.groups = P.groups();
+  saved.clock = sim.clock_;
+  saved.energy = sim.energy_;
+  saved.internal_next = internal_next;
+}
+
+void Simulation::Impl::restore_step() {
+  ParticleStore& P = sim.particles_;
+  if (saved.whole) {
+    P = saved.store;  // taken before migration moved anything: the store at t^n
+  } else {
+    // Undo in the reverse order of the step: the outflow removal, then the re-order.
+    if (!saved.left.empty()) undo_outflow();
+    if (saved.permuted) {
+      std::vector<std::uint32_t> inverse(order.size());
+      for (std::size_t k = 0; k < order.size(); ++k)
+        inverse[order[k]] = static_cast<std::uint32_t>(k);
+      P.permute(inverse);
+    }
+    copy_columns(saved.fields.size(), P.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
+      const double* src = saved.cols[c].data();
+      std::copy(src + b, src + e, P.col(saved.fields[c]).data() + b);
+    });
+  }
+  sim.clock_ = saved.clock;
+  sim.energy_ = saved.energy;
+  internal_next = saved.internal_next;
+}
+
+// Outflow is about to remove the flagged particles: keep their unsaved columns.
+void Simulation::Impl::keep_leaving(std::span<const std::uint8_t> leaving) {
+  if (!saved.armed || saved.whole) return;
+  const ParticleStore& P = sim.particles_;
+  saved.left.assign(leaving.begin(), leaving.end());
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    saved.left_rows[i].clear();
+    if (!P.has(f) || saves(f)) continue;
+    const auto c = P.col(f);
+    for (std::size_t p = 0; p < leaving.size(); ++p) {
+      if (leaving[p]) saved.left_rows[i].push_back(c[p]);
+    }
+  }
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    const auto f = static_cast<IField>(i);
+    saved.left_irows[i].clear();
+    if (!P.has(f)) continue;
+    const auto c = P.col(f);
+    for (std::size_t p = 0; p < leaving.size(); ++p) {
+      if (leaving[p]) saved.left_irows[i].push_back(c[p]);
+    }
+  }
+}
+
+// The store as it was before outflow's removal (the columns restore_step copies back are left
+// zero here): the departed particles' rows merged back in their places.
+void Simulation::Impl::undo_outflow() {
+  ParticleStore& P = sim.particles_;
+  const std::vector<std::uint8_t>& left = saved.left;
+  ParticleStore B;
+  B.require(P.registered());
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    if (P.has(static_cast<IField>(i))) B.require(static_cast<IField>(i));
+  }
+  for (const Group& g : saved.groups) B.add_group(g.material, g.range.size());
+  const auto merge = [&](auto dst, auto src, const auto& rows) {
+    std::size_t k = 0, j = 0;
+    for (std::size_t p = 0; p < left.size(); ++p) dst[p] = left[p] ? rows[j++] : src[k++];
+  };
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    if (P.has(f) && !saves(f)) merge(B.col(f), std::as_const(P).col(f), saved.left_rows[i]);
+  }
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    const auto f = static_cast<IField>(i);
+    if (P.has(f)) merge(B.col(f), std::as_const(P).col(f), saved.left_irows[i]);
+  }
+  P = std::move(B);
 }
 
 void Simulation::advance_to(double t) {
@@ -645,6 +806,7 @@ void Simulation::Impl::sort() {
           [&](std::uint32_t a, std::uint32_t b) { return owner_keys[a] < owner_keys[b]; });
     }
     P.permute(order);
+    saved.permuted = saved.armed;  // a retake undoes it (restore_step)
     std::vector<std::uint64_t> sorted(n);
     for (std::size_t k = 0; k < n; ++k) sorted[k] = owner_keys[order[k]];
     owner_keys.swap(sorted);
@@ -1031,7 +1193,9 @@ void Simulation::Impl::outflow() {
     carried.add(0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]) + m[p] * e[p] -
                 m[p] * (g.x() * x[p] + g.y() * y[p] + g.z() * z[p]));
   }
-  if (P.remove_if(leaving) == 0) return;
+  if (std::find(leaving.begin(), leaving.end(), std::uint8_t{1}) == leaving.end()) return;
+  keep_leaving(leaving);
+  P.remove_if(leaving);
   // On several ranks one rank may lose all its particles; finish_step checks the total.
   if (P.size() == 0 && !dist) {
     throw NumericalError("every particle has left through the outflow boundaries", 0,
@@ -1319,7 +1483,14 @@ void Simulation::Impl::migrate() {
   for (const auto& b : received) moved = moved || !b.empty();
   // Arrivals go to the end of their group; their place in the store changes no sum (the order
   // inside a block is by id, the energy sums are exact).
-  if (moved) P = parallel::merge_particles(P, keep, received);
+  if (!moved) return;
+  ParticleStore merged = parallel::merge_particles(P, keep, received);
+  if (saved.armed) {
+    // The store at t^n, for a retake (restore_step); kept rather than freed.
+    saved.store = std::move(P);
+    saved.whole = true;
+  }
+  P = std::move(merged);
 }
 
 void Simulation::Impl::build_halo_plan() {

@@ -15,11 +15,13 @@
 namespace shatter::scene {
 namespace {
 
-// Peak resident bytes per point, per 8-byte particle column. Measured with /usr/bin/time -v on
+// Peak resident bytes per point, per 8-byte particle column. Measured with /usr/bin/time on
 // scenes/lab-impact-coarse.toml (1 thread, one snapshot at the start and end) at 1.1e5 and
-// 2.6e5 points: the peak grew by 1727 B per point, with 44 columns registered, 4.9 times the
-// columns' 352 B. The rest: the retake copy of every column (Simulation::step), the lattice fill,
-// the sparse grid, flaws, sort buffers and the snapshot's column buffers.
+// 2.6e5 points (cell_size 1.6 and 1.2 mm): the peak grew by 1755 B per point, with 45 columns
+// registered, 4.9 times the columns' 360 B (1931 B with main 74ffd54, before the step retake
+// copied only the 25 columns a step writes; issue 12). The rest: the retake copy
+// (Simulation::step), the stencil rows, the lattice fill, the sparse grid, flaws, sort buffers
+// and the snapshot's column buffers.
 constexpr double kBytesPerColumnByte = 4.9;
 // Fixed cost of the process (libraries, TBB, HDF5), the peak RSS of the tiny scene (2200 points).
 constexpr double kBaseBytes = 22.0e6;
