@@ -137,7 +137,10 @@ struct SphSolver::Impl {
     }
     switch_on = s.sph_.viscosity_switch == ViscositySwitch::morris_monaghan;
     switch_k = {s.sph_.alpha_min, s.sph_.alpha_max, s.sph_.switch_decay};
-    if (switch_on) alpha.assign(s.particles_.size(), s.sph_.alpha_min);
+    // Every particle starts at alpha_max, the constant default's viscosity at the first contact
+    // of an impact, and decays where nothing converges (in tau = h / (C c), a few sound
+    // crossings of h).
+    if (switch_on) alpha.assign(s.particles_.size(), s.sph_.alpha_max);
   }
 
   double plane(std::size_t face) const {
@@ -461,11 +464,12 @@ struct SphSolver::Impl {
     const double* rho = P.col(Field::rho).data();
     const double* sig[6];
     for (int c = 0; c < 6; ++c) sig[c] = P.col(kStressOrder[c]).data();
+    const bool normalized = s.sph_.continuity == Continuity::normalized;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (int c = 0; c < 6; ++c) {
                           for (std::size_t p = r.begin(); p < r.end(); ++p) {
-                            a_stress[c][p] = sig[c][p] / (rho[p] * rho[p]);
+                            a_stress[c][p] = normalized ? sig[c][p] : sig[c][p] / (rho[p] * rho[p]);
                           }
                         }
                       });
@@ -486,6 +490,7 @@ struct SphSolver::Impl {
     ks::ForceInputs f;
     for (int c = 0; c < 6; ++c) f.a_stress[c] = a_stress[c].data();
     f.soundspeed = mirrors ? ec.data() : P.col(Field::soundspeed).data();
+    f.normalized = normalized;
     f.viscosity.alpha = s.sph_.alpha;
     f.viscosity.beta = s.sph_.beta;
     if (switch_on) {

@@ -36,7 +36,7 @@ struct SphConfig {
   Continuity continuity = Continuity::standard;
   // Morris & Monaghan (1997) switch: d alpha_i/dt = -(alpha_i - alpha_min) / tau_i
   // + max(-div v_i, 0) (alpha_max - alpha_i), tau_i = h_i / (switch_decay c_i). Every particle
-  // starts at alpha_min. alpha_max = 1 keeps the viscosity at or below the constant default.
+  // starts at alpha_max. alpha_max = 1 keeps the viscosity at or below the constant default.
   ViscositySwitch viscosity_switch = ViscositySwitch::none;
   double alpha_min = 0.1;
   double alpha_max = 1.0;
