@@ -844,6 +844,10 @@ std::uint64_t SphSolver::neighbour_builds() const {
 std::span<const double> SphSolver::smoothing_length() const {
   return {impl_->h.data(), particles_.size()};
 }
+std::span<const double> SphSolver::viscosity_alpha() const {
+  if (!impl_->switch_on) return {};
+  return {impl_->alpha.data(), particles_.size()};
+}
 
 void SphSolver::restore(const Clock& clock, const EnergyBudget& energy) {
   if (sph_.viscosity_switch != ViscositySwitch::none) {
