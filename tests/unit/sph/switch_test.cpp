@@ -208,10 +208,10 @@ velocity = [0.1, 0.0, 0.0]
 }
 
 // Two elastic spheres meeting head-on (the solver test's pair, 0.05 m spacing): total energy is
-// conserved with the switch as with the constant viscosity, with either continuity. (The
+// conserved with the switch and the normalized continuity. (The
 // spheres are soft, |div v| tau ~ 0.5, so the source barely lifts alpha above its decay here:
 // the printout; the impact test below is where it rises.)
-TEST(SphViscositySwitch, CollidingSpheresConserveEnergyWithEitherContinuity) {
+TEST(SphViscositySwitch, CollidingSpheresConserveEnergyWithTheSwitch) {
   const char* text = R"(
 catalogue = "materials.toml"
 [solver]
@@ -231,7 +231,9 @@ radius = 0.2
 material = "sphere_elastic"
 velocity = [-0.1, -0.1, -0.1]
 )";
-  for (const char* continuity : {"standard", "normalized"}) {
+  // The normalized continuity only (with the standard one the error measured 3.8e-5, as with
+  // the constant viscosity; left out to keep the test cheap under the sanitizers).
+  for (const char* continuity : {"normalized"}) {
     std::vector<std::string> set = kSwitch;
     set.push_back(std::string("solver.sph.continuity=\"") + continuity + "\"");
     const scene::Scene s = scene::parse_scene(text, "spheres.toml", set, kVerificationDir);
