@@ -119,6 +119,10 @@ struct RateOutputs {
   double* deps[6] = {};   // xx, yy, zz, xy, yz, xz: eps_dot dt (Eq. 18)
   double* dspin[3] = {};  // xy, yz, xz: omega dt, omega = (L - L^T) / 2
   double* rho = nullptr;  // in: rho^n, out: rho^{n+1}
+  // The normalized continuity (SphConfig::Continuity::normalized): rho^n of every particle
+  // (real and mirror), a copy, since `rho` is overwritten during the pass. nullptr = BA95's
+  // Eq. 16 as printed.
+  const double* rho_n = nullptr;
 };
 
 // The kick's viscous heating, made in the same pass (viscous_heating_term). Optional: with
@@ -145,8 +149,9 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
   // Local copies of the column pointers: the stores below cannot alias them in the compiler's
   // eyes, so they stay in registers.
   const double *X = in.x, *Y = in.y, *Z = in.z, *VX = in.vx, *VY = in.vy, *VZ = in.vz;
-  const double *M = in.mass, *H = in.h;
+  const double *M = in.mass, *H = in.h, *RN = out.rho_n;
   const T xi(X[i]), yi(Y[i]), zi(Z[i]), hi(H[i]);
+  const T rhoi_n(RN != nullptr ? RN[i] : 0.0);
   const T vi[3] = {T(VX[i]), T(VY[i]), T(VZ[i])};
   const T half_dt(0.5 * dt);
   T Ls[3][3];
@@ -185,7 +190,20 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
     const T r = simd::vsqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
     const T F = cubic_f_lanes(r, T(0.5) * (hi + L::gather(H, idx, run)));
     const T grad[3] = {F * dx[0], F * dx[1], F * dx[2]};
-    velocity_gradient_term(Ls, L::gather(M, idx, run), dv, grad);
+    if (RN == nullptr) {
+      velocity_gradient_term(Ls, L::gather(M, idx, run), dv, grad);
+    } else {
+      // Normalized form: m_j -> rho_i m_j / rho_j, so that Ls / rho_i (the velocity gradient
+      // of Eq. 18, whose trace drives Eq. 16) weighs each neighbour by its own volume
+      // m_j / rho_j (Randles & Libersky 1996, Comput. Methods Appl. Mech. Engrg. 139, 375: the
+      // continuity equation drho_i/dt = rho_i sum_j (m_j / rho_j) (v_i - v_j) . grad_i W_ij and
+      // the velocity gradient with the same weights). With BA95's m_j / rho_i weights a
+      // particle whose density falls below its neighbours' sees their mass in its divergence:
+      // its relative rate is (rho_j / rho_i) div v, which grows as rho_i falls, and an
+      // expanding particle among denser ones reaches rho = 0 in finite time.
+      velocity_gradient_term(Ls, L::gather(M, idx, run) * (rhoi_n / L::gather(RN, idx, run)), dv,
+                             grad);
+    }
   }
   double Lsum[3][3];
   for (int a = 0; a < 3; ++a) {
@@ -214,9 +232,22 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
 
 // Pass 2 inputs besides PairInputs.
 struct ForceInputs {
-  const double* a_stress[6] = {};  // sigma / rho^2 per particle (Voigt), precomputed
+  const double* a_stress[6] = {};  // sigma / rho^2 per particle (Voigt), precomputed; with
+                                   // `normalized`, sigma itself
+  // The momentum equation that pairs with the normalized continuity (SphConfig::Continuity):
+  //   dv_i/dt = sum_j m_j (sigma_i + sigma_j) / (rho_i rho_j) . grad_i W_ij
+  // (the (P_i + P_j) / (rho_i rho_j) form of Monaghan 1992, Sec. 3, with the full stress). Its
+  // work, summed over the pairs, is sum_i (m_i / rho_i) sigma_i : L_i with L_i the velocity
+  // gradient weighted by m_j / rho_j, which is exactly the energy the material update takes
+  // from deps (so total energy is conserved as with BA95's pair; with Eq. 17's
+  // sigma / rho^2 form beside the normalized gradient it is not: +7 % in 6 us, measured).
+  bool normalized = false;
   const double* soundspeed = nullptr;
   ViscosityCoefficients viscosity;
+  // The Morris & Monaghan switch (terms.hpp): alpha per particle (real and mirror); the pair
+  // takes alpha_ij = (alpha_i + alpha_j) / 2 and beta_ij = 2 alpha_ij. nullptr = viscosity's
+  // constant alpha and beta.
+  const double* alpha = nullptr;
   double gravity[3] = {0.0, 0.0, 0.0};
 };
 
@@ -231,7 +262,8 @@ struct ForceOutputs {
 
 // Pass 2 for particle i over its pairs within support (nb, count; pair_w written from
 // list_offset on, entry for entry): Eq. 17 with the full stress, Monaghan's viscosity and its
-// heating (terms.hpp: stress_force_term, monaghan_viscosity_lanes, viscous_term).
+// heating (terms.hpp: stress_force_term, monaghan_viscosity_lanes, viscous_term), with constant
+// coefficients or the switch's per-particle alpha.
 template <class T = double>
 inline void forces_particle(const PairInputs& in, const ForceInputs& f, const std::uint32_t* nb,
                             std::size_t count, std::size_t i, const ForceOutputs& out,
@@ -243,7 +275,9 @@ inline void forces_particle(const PairInputs& in, const ForceInputs& f, const st
   const double *M = in.mass, *H = in.h, *R = in.rho, *C = f.soundspeed;
   const double* AS[6] = {f.a_stress[0], f.a_stress[1], f.a_stress[2],
                          f.a_stress[3], f.a_stress[4], f.a_stress[5]};
+  const double* AL = f.alpha;
   const T xi(X[i]), yi(Y[i]), zi(Z[i]), hi(H[i]), rhoi(R[i]), ci(C[i]);
+  const T alphai(AL != nullptr ? AL[i] : 0.0);
   const T vi[3] = {T(VX[i]), T(VY[i]), T(VZ[i])};
   T A_i[6];
   for (int c = 0; c < 6; ++c) A_i[c] = T(AS[c][i]);
@@ -263,13 +297,24 @@ inline void forces_particle(const PairInputs& in, const ForceInputs& f, const st
     const T mj = L::gather(M, idx, run);
     T A_j[6];
     for (int c = 0; c < 6; ++c) A_j[c] = L::gather(AS[c], idx, run);
-    stress_force_term(acc, mj, A_i, A_j, grad);
+    if (f.normalized) {
+      stress_force_term(acc, mj / (rhoi * L::gather(R, idx, run)), A_i, A_j, grad);
+    } else {
+      stress_force_term(acc, mj, A_i, A_j, grad);
+    }
     const T vij[3] = {vi[0] - L::gather(VX, idx, run), vi[1] - L::gather(VY, idx, run),
                       vi[2] - L::gather(VZ, idx, run)};
     const T vr = vij[0] * dx[0] + vij[1] * dx[1] + vij[2] * dx[2];
-    const ViscousLanes<T> q =
-        monaghan_viscosity_lanes(f.viscosity, vr, r2, h_ij, T(0.5) * (ci + L::gather(C, idx, run)),
-                                 T(0.5) * (rhoi + L::gather(R, idx, run)));
+    const T c_ij = T(0.5) * (ci + L::gather(C, idx, run));
+    const T rho_ij = T(0.5) * (rhoi + L::gather(R, idx, run));
+    ViscousLanes<T> q;
+    if (AL == nullptr) {
+      q = monaghan_viscosity_lanes(f.viscosity, vr, r2, h_ij, c_ij, rho_ij);
+    } else {
+      const T alpha_ij = T(0.5) * (alphai + L::gather(AL, idx, run));
+      q = monaghan_viscosity_lanes(alpha_ij, T(2.0) * alpha_ij, f.viscosity.eta2, vr, r2, h_ij,
+                                   c_ij, rho_ij);
+    }
     viscous_term(acc, heat, mj, q.pi, vij, grad);
     mu_max = simd::vmax(mu_max, -q.mu);
     const T wv = mj * q.pi;

@@ -7,6 +7,8 @@
 // opposite. The terms are templates over T, double or a SIMD batch (the passes' lanes, one pair
 // per lane): the same expressions either way.
 
+#include <cmath>
+
 #include "constitutive/simd.hpp"
 
 namespace shatter::kernels::sph {
@@ -70,16 +72,55 @@ struct ViscousLanes {
   T pi;
   T mu;
 };
+// alpha and beta per lane: the pair's coefficients (constant, or the pair means of the
+// Morris & Monaghan switch below). With T(k.alpha), T(k.beta) the same bits as the overload.
+template <class T>
+inline ViscousLanes<T> monaghan_viscosity_lanes(const T& alpha, const T& beta, double eta2,
+                                                const T& vr, const T& r2, const T& h_ij,
+                                                const T& c_ij, const T& rho_ij) {
+  const T d1 = r2 + T(eta2) * h_ij * h_ij;
+  const T inv = T(1.0) / (d1 * rho_ij);
+  const T mu = h_ij * vr * rho_ij * inv;
+  const T pi = simd::vselect(vr < T(0.0), (-alpha * c_ij * mu + beta * mu * mu) * d1 * inv, T(0.0));
+  return {pi, simd::vselect(pi != T(0.0), mu, T(0.0))};
+}
 template <class T>
 inline ViscousLanes<T> monaghan_viscosity_lanes(const ViscosityCoefficients& k, const T& vr,
                                                 const T& r2, const T& h_ij, const T& c_ij,
                                                 const T& rho_ij) {
-  const T d1 = r2 + T(k.eta2) * h_ij * h_ij;
-  const T inv = T(1.0) / (d1 * rho_ij);
-  const T mu = h_ij * vr * rho_ij * inv;
-  const T pi = simd::vselect(vr < T(0.0),
-                             (-T(k.alpha) * c_ij * mu + T(k.beta) * mu * mu) * d1 * inv, T(0.0));
-  return {pi, simd::vselect(pi != T(0.0), mu, T(0.0))};
+  return monaghan_viscosity_lanes(T(k.alpha), T(k.beta), k.eta2, vr, r2, h_ij, c_ij, rho_ij);
+}
+
+// The viscosity switch of Morris & Monaghan (1997, J. Comput. Phys. 136, 41, Sec. 3): each
+// particle carries its own alpha_i, which decays toward alpha_min away from compression and is
+// raised where the flow converges,
+//   d alpha_i/dt = -(alpha_i - alpha_min) / tau_i + S_i,   tau_i = h_i / (C c_i),
+//   S_i = max(-div v_i, 0) (alpha_max - alpha_i),
+// with the source limited by (alpha_max - alpha_i) as in Rosswog et al. (2000, MNRAS 317, 41)
+// so that alpha_i stays in [alpha_min, alpha_max]; the pair uses the mean alpha_ij and
+// beta_ij = 2 alpha_ij (Morris & Monaghan's choice). (Equation numbers of the two papers are not
+// given here: neither paper is in the project's sources to check them against.)
+struct SwitchCoefficients {
+  double alpha_min = 0.1;
+  double alpha_max = 1.0;
+  double decay = 0.1;  // C of tau = h / (C c); Morris & Monaghan use 0.1-0.2
+};
+
+// One step of the switch: the equation above is linear in alpha, d alpha/dt = -k (alpha - a_eq)
+// with k = 1/tau + S', S' = max(-div v, 0), a_eq = (alpha_min / tau + S' alpha_max) / k, and it
+// is integrated exactly over dt with div v, c and h frozen at the step's values:
+//   alpha^{n+1} = a_eq + (alpha^n - a_eq) exp(-k dt).
+// So alpha never leaves [alpha_min, alpha_max] for any dt (an explicit Euler step would
+// overshoot a_eq once k dt > 1, as in a strong shock where |div v| dt ~ 1), and without
+// compression it decays exactly as exp(-t / tau).
+inline double morris_monaghan_alpha(const SwitchCoefficients& k, double alpha, double div_v,
+                                    double c, double h, double dt) {
+  const double inv_tau = h > 0.0 ? k.decay * c / h : 0.0;
+  const double src = div_v < 0.0 ? -div_v : 0.0;
+  const double rate = inv_tau + src;
+  if (!(rate > 0.0)) return alpha;
+  const double a_eq = (k.alpha_min * inv_tau + src * k.alpha_max) / rate;
+  return a_eq + (alpha - a_eq) * std::exp(-rate * dt);
 }
 
 // The viscous force and its heating (Monaghan 1992, Eqs. 4.1 and 4.4):

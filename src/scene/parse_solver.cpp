@@ -15,6 +15,8 @@ const std::vector<std::string> kTransfers = {"flip", "apic", "xpic"};
 const std::vector<std::string> kPlanes = {"none", "x", "y", "z"};
 const std::vector<std::string> kBoundaries = {"none", "fixed", "slip", "symmetry", "outflow"};
 const std::vector<std::string> kContacts = {"single_field", "multi_field"};
+const std::vector<std::string> kSphContinuity = {"standard", "normalized"};
+const std::vector<std::string> kSphSwitches = {"none", "morris_monaghan"};
 const std::vector<std::string> kFaces = {"x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi"};
 
 BoundaryKind boundary_of(const std::string& s) {
@@ -109,12 +111,30 @@ void read_solver(Reader& root, Scene& scene) {
       sph = r.subtable("sph");
     }
     Reader q(*sph, "solver.sph", r.where("sph"));
-    q.allow({"h_factor", "alpha", "beta", "skin"});
+    q.allow({"h_factor", "alpha", "beta", "skin", "continuity", "viscosity_switch", "alpha_min",
+             "alpha_max", "switch_decay"});
     q.reject_unknown();
     scene.sph.h_factor = q.positive("h_factor", q.number("h_factor", scene.sph.h_factor));
     scene.sph.alpha = q.non_negative("alpha", q.number("alpha", scene.sph.alpha));
     scene.sph.beta = q.non_negative("beta", q.number("beta", scene.sph.beta));
     scene.sph.skin = q.non_negative("skin", q.number("skin", scene.sph.skin));
+    // Both default to today's formulation (BA95 Eq. 16, constant Monaghan viscosity), so
+    // scenes without them run bit for bit as before (include/shatter/sph/config.hpp).
+    scene.sph.continuity = q.choice("continuity", "standard", kSphContinuity) == "normalized"
+                               ? sph::Continuity::normalized
+                               : sph::Continuity::standard;
+    scene.sph.viscosity_switch =
+        q.choice("viscosity_switch", "none", kSphSwitches) == "morris_monaghan"
+            ? sph::ViscositySwitch::morris_monaghan
+            : sph::ViscositySwitch::none;
+    scene.sph.alpha_min = q.non_negative("alpha_min", q.number("alpha_min", scene.sph.alpha_min));
+    scene.sph.alpha_max = q.non_negative("alpha_max", q.number("alpha_max", scene.sph.alpha_max));
+    scene.sph.switch_decay =
+        q.positive("switch_decay", q.number("switch_decay", scene.sph.switch_decay));
+    if (scene.sph.alpha_min > scene.sph.alpha_max) {
+      q.fail("alpha_min", fmt::format("must not exceed alpha_max (got {} > {})",
+                                      scene.sph.alpha_min, scene.sph.alpha_max));
+    }
   }
 
   // Contact between bodies (engine/config.hpp ContactKind). The paper's single shared field is

@@ -107,6 +107,12 @@ struct SphSolver::Impl {
   std::vector<std::uint32_t> active, active_count;
   std::vector<double> pair_w;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
+  // The Morris & Monaghan switch: alpha per particle (state: follows the particles through the
+  // re-order and the outflow; real then mirror entries). The normalized continuity: a copy of
+  // rho^n for the rates pass.
+  bool switch_on = false;
+  ks::SwitchCoefficients switch_k;
+  AlignedVector<double> alpha, rho_n;
   std::vector<std::uint32_t> order;
   std::vector<StageTiming> timings;
   // Verlet lists: positions and h at the last build, the skin it used (m), whether the lists
@@ -129,6 +135,12 @@ struct SphSolver::Impl {
       mirrors = mirrors || mirror_face[f];
       outflows = outflows || outflow_face[f];
     }
+    switch_on = s.sph_.viscosity_switch == ViscositySwitch::morris_monaghan;
+    switch_k = {s.sph_.alpha_min, s.sph_.alpha_max, s.sph_.switch_decay};
+    // Every particle starts at alpha_max, the constant default's viscosity at the first contact
+    // of an impact, and decays where nothing converges (in tau = h / (C c), a few sound
+    // crossings of h).
+    if (switch_on) alpha.assign(s.particles_.size(), s.sph_.alpha_max);
   }
 
   double plane(std::size_t face) const {
@@ -174,6 +186,7 @@ struct SphSolver::Impl {
     for (auto* v : {&h, &h_mid, &ax, &ay, &az, &ex, &ey, &ez, &evx, &evy, &evz, &em, &erho, &ec}) {
       v->resize(m);
     }
+    if (switch_on) alpha.resize(m);
     for (auto& v : a_stress) v.resize(m);
     place_ghosts();
   }
@@ -268,6 +281,14 @@ struct SphSolver::Impl {
                  m[p] * e[p] - m[p] * (g.x() * X[0][p] + g.y() * X[1][p] + g.z() * X[2][p]);
     }
     if (P.remove_if(leaving) == 0) return;
+    if (switch_on) {
+      // The switch's alpha leaves with its particle (the store keeps the order of the rest).
+      std::size_t k = 0;
+      for (std::size_t p = 0; p < n; ++p) {
+        if (leaving[p] == 0) alpha[k++] = alpha[p];
+      }
+      alpha.resize(k);
+    }
     lists_valid = false;
     if (P.size() == 0) {
       throw NumericalError("every particle has left through the outflow boundaries", 0,
@@ -424,6 +445,12 @@ struct SphSolver::Impl {
                            [&](std::uint32_t a, std::uint32_t b) { return cells[a] < cells[b]; });
         }
         P.permute(order);
+        if (switch_on) {
+          // new particle k is old particle order[k], as in ParticleStore::permute
+          rho_n.resize(P.size());
+          for (std::size_t k = 0; k < P.size(); ++k) rho_n[k] = alpha[order[k]];
+          std::copy(rho_n.begin(), rho_n.end(), alpha.begin());
+        }
         smoothing_lengths();
         build_search();
       }
@@ -437,11 +464,12 @@ struct SphSolver::Impl {
     const double* rho = P.col(Field::rho).data();
     const double* sig[6];
     for (int c = 0; c < 6; ++c) sig[c] = P.col(kStressOrder[c]).data();
+    const bool normalized = s.sph_.continuity == Continuity::normalized;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (int c = 0; c < 6; ++c) {
                           for (std::size_t p = r.begin(); p < r.end(); ++p) {
-                            a_stress[c][p] = sig[c][p] / (rho[p] * rho[p]);
+                            a_stress[c][p] = normalized ? sig[c][p] : sig[c][p] / (rho[p] * rho[p]);
                           }
                         }
                       });
@@ -462,8 +490,13 @@ struct SphSolver::Impl {
     ks::ForceInputs f;
     for (int c = 0; c < 6; ++c) f.a_stress[c] = a_stress[c].data();
     f.soundspeed = mirrors ? ec.data() : P.col(Field::soundspeed).data();
+    f.normalized = normalized;
     f.viscosity.alpha = s.sph_.alpha;
     f.viscosity.beta = s.sph_.beta;
+    if (switch_on) {
+      if (mirrors) mirror_scalar(alpha.data(), n);
+      f.alpha = alpha.data();
+    }
     for (int d = 0; d < 3; ++d) f.gravity[d] = s.config_.gravity[d];
     if (pair_w.size() < search.pairs()) pair_w.resize(search.pairs());
     if (active.size() < search.pairs()) active.resize(search.pairs());
@@ -547,6 +580,16 @@ struct SphSolver::Impl {
     for (int c = 0; c < 6; ++c) out.deps[c] = P.col(kDepsOrder[c]).data();
     for (int c = 0; c < 3; ++c) out.dspin[c] = P.col(kSpinOrder[c]).data();
     out.rho = P.col(Field::rho).data();
+    if (s.sph_.continuity == Continuity::normalized) {
+      // rho^n of the neighbours, read while the pass overwrites the column (the images' copy,
+      // erho, is already separate).
+      if (!mirrors) {
+        const auto r = P.col(Field::rho);
+        rho_n.resize(P.size());
+        std::copy(r.begin(), r.end(), rho_n.begin());
+      }
+      out.rho_n = mirrors ? erho.data() : rho_n.data();
+    }
     ks::KickHeating kick;
     kick.pair_w = pair_w.data();
     kick.ax = ax.data();
@@ -574,6 +617,25 @@ struct SphSolver::Impl {
       if (g.range.empty()) continue;
       s.materials_[static_cast<std::size_t>(g.material)]->update(s.particles_, g.range, ctx);
     }
+  }
+
+  // The switch over this step (terms.hpp morris_monaghan_alpha): div v from the step's volume
+  // change, tr deps / dt (= div v rho^n / rho^{n+1}, the rates pass's estimate), c^{n+1} from
+  // the material update and h^{n+1/2}; the forces at t^{n+1} then use alpha^{n+1}.
+  void evolve_switch(double dt) {
+    if (!switch_on) return;
+    ParticleStore& P = s.particles_;
+    const double* d[3] = {P.col(Field::deps_xx).data(), P.col(Field::deps_yy).data(),
+                          P.col(Field::deps_zz).data()};
+    const double* c = P.col(Field::soundspeed).data();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kGrain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                          const double div_v = (d[0][p] + d[1][p] + d[2][p]) / dt;
+                          alpha[p] = ks::morris_monaghan_alpha(switch_k, alpha[p], div_v, c[p],
+                                                               h_mid[p], dt);
+                        }
+                      });
   }
 
   void drift(double dt) {
@@ -620,10 +682,14 @@ struct SphSolver::Impl {
   double stable_dt() const {
     const ParticleStore& P = s.particles_;
     const auto c = P.col(Field::soundspeed);
-    const double alpha = s.sph_.alpha, beta = s.sph_.beta, cfl = s.config_.cfl;
+    // With the switch, the largest alpha it can reach (and beta = 2 alpha): the step does not
+    // depend on the switch's state and is that of the constant default at alpha_max = 1.
+    const double a_visc = switch_on ? s.sph_.alpha_max : s.sph_.alpha;
+    const double b_visc = switch_on ? 2.0 * s.sph_.alpha_max : s.sph_.beta;
+    const double cfl = s.config_.cfl;
     const double inf = std::numeric_limits<double>::infinity();
     const double dt = exact_min(P.size(), inf, [&](std::size_t p) {
-      const double sig = c[p] + 1.2 * (alpha * c[p] + beta * mu[p]);
+      const double sig = c[p] + 1.2 * (a_visc * c[p] + b_visc * mu[p]);
       const double dt_c = sig > 0.0 ? cfl * h[p] / sig : inf;
       const double a = std::sqrt(ax[p] * ax[p] + ay[p] * ay[p] + az[p] * az[p]);
       const double dt_f = a > 0.0 ? cfl * std::sqrt(h[p] / a) : inf;
@@ -695,6 +761,15 @@ SphSolver::SphSolver(SolverConfig config, SphConfig sph, ParticleStore particles
   }
   if (!(sph_.skin >= 0.0) || !std::isfinite(sph_.skin)) {
     throw std::invalid_argument(fmt::format("solver.sph: skin must be >= 0, got {}", sph_.skin));
+  }
+  if (sph_.viscosity_switch == ViscositySwitch::morris_monaghan &&
+      !(sph_.alpha_min >= 0.0 && sph_.alpha_min <= sph_.alpha_max &&
+        std::isfinite(sph_.alpha_max) && sph_.switch_decay > 0.0 &&
+        std::isfinite(sph_.switch_decay))) {
+    throw std::invalid_argument(fmt::format(
+        "solver.sph: the viscosity switch needs 0 <= alpha_min <= alpha_max and switch_decay > 0, "
+        "got alpha_min = {}, alpha_max = {}, switch_decay = {}",
+        sph_.alpha_min, sph_.alpha_max, sph_.switch_decay));
   }
   if (!(sph_.alpha >= 0.0) || !(sph_.beta >= 0.0)) {
     throw std::invalid_argument(fmt::format(
@@ -769,8 +844,19 @@ std::uint64_t SphSolver::neighbour_builds() const {
 std::span<const double> SphSolver::smoothing_length() const {
   return {impl_->h.data(), particles_.size()};
 }
+std::span<const double> SphSolver::viscosity_alpha() const {
+  if (!impl_->switch_on) return {};
+  return {impl_->alpha.data(), particles_.size()};
+}
 
 void SphSolver::restore(const Clock& clock, const EnergyBudget& energy) {
+  if (sph_.viscosity_switch != ViscositySwitch::none) {
+    // The switch's alpha is a per-particle state the checkpoint does not hold (the store has no
+    // column for it); restarting it at alpha_min would silently change the run.
+    throw std::invalid_argument(
+        "shatter resume: solver.sph.viscosity_switch = \"morris_monaghan\" cannot be resumed "
+        "(the per-particle alpha is not in the checkpoint); rerun from the start");
+  }
   clock_ = clock;
   energy_ = energy;
   impl_->lists_valid = false;
@@ -808,7 +894,10 @@ void SphSolver::step() {
       I.rates(dt, dt_kick);
       I.heat_from_kick();
     });
-    I.timed(kMaterial, [&] { I.material(dt); });
+    I.timed(kMaterial, [&] {
+      I.material(dt);
+      I.evolve_switch(dt);
+    });
     I.timed(kDrift, [&] {
       I.drift(dt);
       I.boundaries_after_drift();

@@ -84,6 +84,8 @@ class SphSolver final : public Solver {
   // Neighbour-list builds so far (with a Verlet skin, fewer than steps).
   std::uint64_t neighbour_builds() const;
   std::span<const double> smoothing_length() const;
+  // The Morris & Monaghan switch's alpha per particle (store order); empty without the switch.
+  std::span<const double> viscosity_alpha() const;
 
  private:
   struct Impl;
