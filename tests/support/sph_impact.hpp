@@ -1,5 +1,5 @@
 #pragma once
-// The small SPH impact the SPH unit tests share: a basalt sphere (12 mm radius, 2 mm spacing,
+// Scenes the SPH unit tests share. The small impact: a basalt sphere (12 mm radius, 2 mm spacing,
 // ~900 points; Tillotson, linear hardening) hit by a 4 mm nylon sphere at 3.2 km/s, 30 degrees:
 // shocks, plasticity and (with damage) fracture in a few dozen steps. The tests differ in a few
 // lines, which are the arguments, so that each test shows what it changes.
@@ -46,5 +46,28 @@ angle = 30.0
   text += lines.tables;
   return text;
 }
+
+// Two elastic spheres (verification catalogue: E = 1000 Pa, Poisson 0.3, rho = 1000 kg/m^3,
+// c_p = 1.16 m/s) meeting head-on at 0.35 m/s, 0.05 m spacing (~270 points each); parse with the
+// verification catalogue's directory.
+inline constexpr const char* kSphCollidingSpheres = R"(
+catalogue = "materials.toml"
+[solver]
+method = "sph"
+cell_size = 0.1
+end_time = 1.0
+[body.a]
+shape = "sphere"
+centre = [0.3, 0.3, 0.3]
+radius = 0.2
+material = "sphere_elastic"
+velocity = [0.1, 0.1, 0.1]
+[body.b]
+shape = "sphere"
+centre = [0.56, 0.56, 0.56]
+radius = 0.2
+material = "sphere_elastic"
+velocity = [-0.1, -0.1, -0.1]
+)";
 
 }  // namespace shatter::test

@@ -19,27 +19,7 @@ namespace {
 
 const std::string kVerificationDir = std::string(SHATTER_SOURCE_DIR) + "/scenes/verification";
 
-// Two elastic spheres (verification catalogue: E = 1000 Pa, Poisson 0.3, rho = 1000 kg/m^3,
-// c_p = 1.16 m/s) meeting head-on at 0.35 m/s, 0.05 m spacing (~270 points each).
-const char* kSpheres = R"(
-catalogue = "materials.toml"
-[solver]
-method = "sph"
-cell_size = 0.1
-end_time = 1.0
-[body.a]
-shape = "sphere"
-centre = [0.3, 0.3, 0.3]
-radius = 0.2
-material = "sphere_elastic"
-velocity = [0.1, 0.1, 0.1]
-[body.b]
-shape = "sphere"
-centre = [0.56, 0.56, 0.56]
-radius = 0.2
-material = "sphere_elastic"
-velocity = [-0.1, -0.1, -0.1]
-)";
+const char* const kSpheres = test::kSphCollidingSpheres;
 
 // The shared small impact (tests/support/sph_impact.hpp), Grady-Kipp damage with the
 // resolution-independent flaws.

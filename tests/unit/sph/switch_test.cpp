@@ -212,25 +212,7 @@ velocity = [0.1, 0.0, 0.0]
 // spheres are soft, |div v| tau ~ 0.5, so the source barely lifts alpha above its decay here:
 // the printout; the impact test below is where it rises.)
 TEST(SphViscositySwitch, CollidingSpheresConserveEnergyWithTheSwitch) {
-  const char* text = R"(
-catalogue = "materials.toml"
-[solver]
-method = "sph"
-cell_size = 0.1
-end_time = 1.0
-[body.a]
-shape = "sphere"
-centre = [0.3, 0.3, 0.3]
-radius = 0.2
-material = "sphere_elastic"
-velocity = [0.1, 0.1, 0.1]
-[body.b]
-shape = "sphere"
-centre = [0.56, 0.56, 0.56]
-radius = 0.2
-material = "sphere_elastic"
-velocity = [-0.1, -0.1, -0.1]
-)";
+  const char* text = test::kSphCollidingSpheres;
   // The normalized continuity only (with the standard one the error measured 3.8e-5, as with
   // the constant viscosity; left out to keep the test cheap under the sanitizers).
   for (const char* continuity : {"normalized"}) {
