@@ -9,7 +9,9 @@ SPHERICAL_WAVE_STUDY_CSV) against the same two, one series per transfer scheme (
 shape (FLIP), with the least-squares order of each series in the legends of the cell-size panels.
 
 Problem names in the CSV are <problem>[_symwall][_<scheme>], scheme one of apic, pic<f> (the
-FLIP/PIC blend with PIC fraction f), xpic<m> (XPIC of order m); no scheme suffix is FLIP.
+FLIP/PIC blend with PIC fraction f), xpic<m> (XPIC of order m), fmpm<k> (FMPM of order k), each
+of xpic/fmpm optionally with _every<N> (the filter on every N-th step only, FLIP between); no
+scheme suffix is FLIP. Periodic (_every) schemes are drawn dashed.
 
 Usage: /usr/bin/python3 tools/plot_convergence.py docs/convergence.csv docs/convergence.png
 """
@@ -35,6 +37,9 @@ SCHEME_COLOURS = {
     "xpic2": "tab:green",
     "xpic5": "tab:olive",
     "apic": "tab:purple",
+    "fmpm2": "tab:cyan",
+    "fmpm5": "tab:brown",
+    "fmpm10": "tab:pink",
 }
 SHAPE_STYLES = {"ugimp": "-", "linear": ":", "bspline2": "--"}
 
@@ -51,7 +56,7 @@ def split_problem(name):
             rest = name[len(base):]
             sym = rest.startswith("_symwall")
             rest = rest.removeprefix("_symwall")
-            m = re.fullmatch(r"(?:_(apic|pic[0-9.]+|xpic[0-9]+))?", rest)
+            m = re.fullmatch(r"(?:_(apic|pic[0-9.]+|(?:xpic|fmpm)[0-9]+(?:_every[0-9]+)?))?", rest)
             if m is None:
                 return None
             return base, sym, m.group(1) or "flip"
@@ -84,8 +89,10 @@ def main():
         h = np.asarray(s["h"])[order]
         err = np.asarray(s["err"])[order]
         wall = np.asarray(s["wall"])[order]
-        style = dict(color=SCHEME_COLOURS.get(scheme, "k"), marker=MARKERS[base],
-                     linestyle=SHAPE_STYLES.get(shape, "-"), markersize=5)
+        periodic = "_every" in scheme
+        style = dict(color=SCHEME_COLOURS.get(scheme.split("_every")[0], "k"), marker=MARKERS[base],
+                     linestyle="--" if periodic else SHAPE_STYLES.get(shape, "-"), markersize=5,
+                     alpha=0.6 if periodic else 1.0)
         label = f"{LABELS[base]}, {scheme}, {shape}"
         ax_h, ax_t = panels[base]
         ax_h.loglog(h / h.max(), err, label=f"{label}: order {fitted_order(h, err):.2f}", **style)

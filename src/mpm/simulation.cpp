@@ -247,6 +247,9 @@ struct Simulation::Impl {
   // the interpolated velocities S V of one pass at the particles.
   std::vector<double> xpic_v[3], xpic_term[3], xpic_target[3];
   AlignedVector<double> xpic_w[3];
+  // The step being taken applies the XPIC/FMPM filter (SolverConfig::filter_every); set by
+  // Simulation::step from the step counter before the graph runs, the same on a retake.
+  bool filtering = true;
   double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
   double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
   double empty_mass = 0.0;     // nodes lighter than this are treated as empty
@@ -294,8 +297,13 @@ struct Simulation::Impl {
   void p2g_bodies(const kernels::P2GParticles& in, bool with_force);
   void grid_update();
   double filtered_share() const;
+  bool filters_step(std::uint64_t step) const;
+  template <class Shape, class Update>
+  void series_passes(int terms, Update&& update);
   template <class Shape>
   void xpic();
+  template <class Shape>
+  void fmpm();
   template <class Shape>
   void g2p();
   template <class Shape>
@@ -372,6 +380,25 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
       (config_.xpic_order < 1 || config_.xpic_order > kMaxXpicOrder)) {
     throw std::invalid_argument(fmt::format("solver: xpic_order must be in [1, {}], got {}",
                                             kMaxXpicOrder, config_.xpic_order));
+  }
+  // FMPM(k): the same passes as XPIC, so the same bound; Nairn (2026, arXiv 2604.07307) finds
+  // high orders need smaller time steps, so large k is for study, not production.
+  constexpr int kMaxFmpmOrder = 32;
+  if (config_.transfer == TransferKind::fmpm &&
+      (config_.fmpm_order < 1 || config_.fmpm_order > kMaxFmpmOrder)) {
+    throw std::invalid_argument(fmt::format("solver: fmpm_order must be in [1, {}], got {}",
+                                            kMaxFmpmOrder, config_.fmpm_order));
+  }
+  if (config_.filter_every < 1) {
+    throw std::invalid_argument(
+        fmt::format("solver: filter_every must be >= 1, got {}", config_.filter_every));
+  }
+  if (config_.filter_every != 1 && config_.transfer != TransferKind::xpic &&
+      config_.transfer != TransferKind::fmpm) {
+    // APIC's C_p and the blend's fraction act on every step; a FLIP step would drop C_p.
+    throw std::invalid_argument(
+        fmt::format("solver: filter_every applies only to transfer 'xpic' or 'fmpm', not '{}'",
+                    name_of(config_.transfer)));
   }
   if (particles_.has(Field::size0)) {
     // A zero size would make the uGIMP weights 0/0; such particles get the cubic-lattice size.
@@ -568,6 +595,7 @@ void Simulation::step() {
     sv.permuted = sv.whole = false;
     sv.left.clear();
     impl_->dt_step = clock_.dt;
+    impl_->filtering = impl_->filters_step(clock_.step);
     impl_->arena.execute([&] { impl_->graph.run(); });
     impl_->finish_step();
     if (!may_retake || attempt == kMaxRetakes ||
@@ -737,7 +765,18 @@ void Simulation::Impl::build_stages() {
     graph.add({"xpic",
                {geometry | FieldSet{Field::mass}, R::kBlocks | R::kClock},
                {{}, R::kGrid},
-               [this] { xpic<Shape>(); }});
+               [this] {
+                 if (filtering) xpic<Shape>();
+               }});
+  }
+  // 5a. FMPM(k): the k - 1 extra passes that build v_F (TransferKind::fmpm)
+  if (sim.config_.transfer == TransferKind::fmpm && sim.config_.fmpm_order > 1) {
+    graph.add({"fmpm",
+               {geometry | FieldSet{Field::mass}, R::kBlocks | R::kClock},
+               {{}, R::kGrid},
+               [this] {
+                 if (filtering) fmpm<Shape>();
+               }});
   }
   // 5. particle velocity and displacement from the grid
   graph.add({"g2p",
@@ -996,60 +1035,42 @@ double Simulation::Impl::filtered_share() const {
     case TransferKind::flip:
       return sim.config_.pic_fraction;
     case TransferKind::apic:
-    case TransferKind::xpic:
       return 1.0;
+    case TransferKind::xpic:
+    case TransferKind::fmpm:
+      return filtering ? 1.0 : 0.0;  // FLIP on the steps filter_every leaves out
   }
   return 0.0;
 }
 
-// XPIC(m), Hammerquist & Nairn (2017): V*_m = sum_{k=1..m} (-1)^{k+1} C(m,k) (S+ S)^{k-1} V^L,
-// with V^L = S+ v_p the lumped grid velocity of the particles at the start of the step and
-// (S+ S V)_I = (1/m_I) sum_p m_p N_I(x_p) sum_J N_J(x_p) V_J one grid-particle-grid pass. It is
-// the grid form of their particle update v_p <- v_p - (I - S S+)^m v_p + S a dt: the
-// PIC filter's projection I - S S+ applied m times, so velocity noise in the null space of S+ is
-// removed while what the grid can represent loses only its (I - S+ S)^m part. Each pass is a
-// gather and the momentum-only scatter of the MUSL remap (same colouring, same boundary
-// conditions: S+ includes them), so node sums stay in canonical order. The term C(m,k) (S+S)^{k-1}
-// V^L is formed recursively with the ratio C(m,k)/C(m,k-1) = (m-k+1)/k, as in the authors' own
-// code (NairnMPM, XPICExtrapolationTask). G2P then takes S (V*_m + a dt) = S (v^{n+1} + V*_m -
-// V^L), which is v^{n+1} itself, and so PIC bitwise, for m = 1.
-template <class Shape>
-void Simulation::Impl::xpic() {
+// Periodic filtering (the PeriodicXPIC custom task of NairnMPM/OSParticulas: FLIP on most
+// steps, the XPIC(k) or FMPM(k) update every N-th): the step that leaves Clock::step = n + 1
+// filters when n + 1 is a multiple of N. The counter is in the checkpoint, so a resumed run
+// keeps the phase; a retaken step has the same counter, so it decides the same way.
+bool Simulation::Impl::filters_step(std::uint64_t step) const {
+  return (step + 1) % static_cast<std::uint64_t>(sim.config_.filter_every) == 0;
+}
+
+// The extra grid-particle-grid passes of XPIC and FMPM, shared: passes 2..terms of the series
+// in A = M_L^{-1} M_c = S+ S. On entry v^{n+1} (after grid_update's boundary conditions) is in
+// the momentum arrays; it is kept aside in xpic_v while those arrays become the passes'
+// workspace, and update(k, i) runs for every node after pass k with (A xpic_term)_i in the
+// momentum arrays: it writes the next pass's input into xpic_term, which the caller fills
+// before the first pass (series_arrays sizes the arrays). One pass is the gather S of xpic_term to
+// the points (kernels::gather_velocity, from the stencils of this step) and the momentum-only
+// scatter of the MUSL remap (same colouring, so node sums keep their canonical order), with the
+// remap's boundary conditions (mirror, wall velocities): S+ includes them, as in both papers. The
+// caller swaps the arrays back.
+template <class Shape, class Update>
+void Simulation::Impl::series_passes(int terms, Update&& update) {
   ParticleStore& P = sim.particles_;
   auto& N = grid.nodes();
   const std::size_t nodes = N.px.size();
   const std::size_t n = P.size();
-  const int m = sim.config_.xpic_order;
-  const double dt = 0.5 * (sim.clock_.dt_prev + dt_step);  // the kick of grid_update
-  std::vector<double>* mom[3] = {&N.px, &N.py, &N.pz};
-  const std::vector<double>* acc[3] = {&N.fx, &N.fy, &N.fz};
-  for (int d = 0; d < 3; ++d) {
-    xpic_v[d].swap(*mom[d]);  // v^{n+1} aside; the momentum arrays become the pass's workspace
-    mom[d]->resize(nodes);
-    xpic_term[d].resize(nodes);
-    xpic_target[d].resize(nodes);
-    xpic_w[d].resize(n);
-  }
-  const auto node_loop = [&](auto&& body) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 4096),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
-                      });
-  };
-  // k = 1: C(m,1) V^L, with V^L = v^{n+1} - a dt (the lumped velocity after the boundary
-  // conditions of grid_update). xpic_target accumulates V*_m - V^L.
-  const double md = static_cast<double>(m);
-  node_loop([&](std::size_t i) {
-    for (int d = 0; d < 3; ++d) {
-      const double vl = xpic_v[d][i] - dt * (*acc[d])[i];
-      xpic_term[d][i] = md * vl;
-      xpic_target[d][i] = (md - 1.0) * vl;
-    }
-  });
   kernels::G2PParticles in = mpm::g2p_inputs(P, inv_h(), nullptr, nullptr, nullptr);
   in.stencil = stencils(kernels::StencilCache::kLoad);
   double* w[3] = {xpic_w[0].data(), xpic_w[1].data(), xpic_w[2].data()};
-  for (int k = 2; k <= m; ++k) {
+  for (int k = 2; k <= terms; ++k) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t p = r.begin(); p < r.end(); ++p) {
@@ -1062,20 +1083,112 @@ void Simulation::Impl::xpic() {
     p2g<Shape>(false, w);
     if (!dist) boundaries.mirror(grid, mpm::Boundaries::kMomentum);
     boundaries.velocities(grid, empty_mass);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) update(k, i);
+                      });
+  }
+}
+
+namespace {
+// Sets v^{n+1} aside in `kept` and sizes the passes' arrays (XPIC, FMPM).
+template <class Vec, class AVec>
+void series_arrays(std::vector<double>* (&mom)[3], Vec (&kept)[3], Vec (&term)[3], Vec (&target)[3],
+                   AVec (&w)[3], std::size_t nodes, std::size_t particles, bool with_target) {
+  for (int d = 0; d < 3; ++d) {
+    kept[d].swap(*mom[d]);  // v^{n+1} aside; the momentum arrays become the passes' workspace
+    mom[d]->resize(nodes);
+    term[d].resize(nodes);
+    if (with_target) target[d].resize(nodes);
+    w[d].resize(particles);
+  }
+}
+
+template <class F>
+void node_loop(std::size_t nodes, F&& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 4096),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
+                    });
+}
+}  // namespace
+
+// XPIC(m), Hammerquist & Nairn (2017): V*_m = sum_{k=1..m} (-1)^{k+1} C(m,k) (S+ S)^{k-1} V^L,
+// with V^L = S+ v_p the lumped grid velocity of the particles at the start of the step and
+// (S+ S V)_I = (1/m_I) sum_p m_p N_I(x_p) sum_J N_J(x_p) V_J one grid-particle-grid pass. It is
+// the grid form of their particle update v_p <- v_p - (I - S S+)^m v_p + S a dt: the
+// PIC filter's projection I - S S+ applied m times, so velocity noise in the null space of S+ is
+// removed while what the grid can represent loses only its (I - S+ S)^m part. The passes are
+// series_passes. The term C(m,k) (S+S)^{k-1} V^L is formed recursively with the ratio
+// C(m,k)/C(m,k-1) = (m-k+1)/k, as in the authors' own code (NairnMPM, XPICExtrapolationTask).
+// G2P then takes S (V*_m + a dt) = S (v^{n+1} + V*_m - V^L), which is v^{n+1} itself, and so
+// PIC bitwise, for m = 1.
+template <class Shape>
+void Simulation::Impl::xpic() {
+  auto& N = grid.nodes();
+  const std::size_t nodes = N.px.size();
+  const int m = sim.config_.xpic_order;
+  const double dt = 0.5 * (sim.clock_.dt_prev + dt_step);  // the kick of grid_update
+  std::vector<double>* mom[3] = {&N.px, &N.py, &N.pz};
+  const std::vector<double>* acc[3] = {&N.fx, &N.fy, &N.fz};
+  series_arrays(mom, xpic_v, xpic_term, xpic_target, xpic_w, nodes, sim.particles_.size(), true);
+  // k = 1: C(m,1) V^L, with V^L = v^{n+1} - a dt (the lumped velocity after the boundary
+  // conditions of grid_update). xpic_target accumulates V*_m - V^L.
+  const double md = static_cast<double>(m);
+  node_loop(nodes, [&](std::size_t i) {
+    for (int d = 0; d < 3; ++d) {
+      const double vl = xpic_v[d][i] - dt * (*acc[d])[i];
+      xpic_term[d][i] = md * vl;
+      xpic_target[d][i] = (md - 1.0) * vl;
+    }
+  });
+  series_passes<Shape>(m, [&](int k, std::size_t i) {
     const double ratio = static_cast<double>(m - k + 1) / static_cast<double>(k);
     const double sign = k % 2 == 0 ? -1.0 : 1.0;  // (-1)^{k+1}
-    node_loop([&](std::size_t i) {
-      for (int d = 0; d < 3; ++d) {
-        const double t = ratio * (*mom[d])[i];
-        xpic_term[d][i] = t;
-        xpic_target[d][i] += sign * t;
-      }
-    });
-  }
-  node_loop([&](std::size_t i) {
+    for (int d = 0; d < 3; ++d) {
+      const double t = ratio * (*mom[d])[i];
+      xpic_term[d][i] = t;
+      xpic_target[d][i] += sign * t;
+    }
+  });
+  node_loop(nodes, [&](std::size_t i) {
     for (int d = 0; d < 3; ++d) xpic_target[d][i] += xpic_v[d][i];
   });
   for (int d = 0; d < 3; ++d) xpic_v[d].swap(*mom[d]);  // v^{n+1} back for the displacement
+}
+
+// FMPM(k), Nairn & Hammerquist (2021), CMAME 377, 113667, revised in Nairn (2026), arXiv
+// 2604.07307: the grid velocity solves M_c v = p^{n+1} with the full (consistent) mass matrix
+// M_c, (M_c)_IJ = sum_p m_p N_I(x_p) N_J(x_p), approximately, by the order-k series
+//   v_F = sum_{i=0..k-1} (I - M_L^{-1} M_c)^i M_L^{-1} p^{n+1},
+// M_L the lumped (diagonal) mass matrix, M_L^{-1} p^{n+1} = v^{n+1} the lumped velocity of
+// grid_update and M_L^{-1} M_c = S+ S one pass. By sum_{i<k} (I - A)^i = sum_{j=1..k} (-1)^{j+1}
+// C(k,j) A^{j-1} it is XPIC's series, applied to v^{n+1} (after the force) instead of to V^L;
+// XPIC(k) adds a dt unfiltered. Here it is summed in the nested (Neumann) form
+//   v^(1) = v^{n+1},  v^(j) = v^(1) + (I - A) v^(j-1),  v_F = v^(k),
+// the same k - 1 passes, with round-off ~ k eps instead of the ~ 2^k eps of the alternating
+// binomial sum (C(32,16) = 6e8), and a uniform velocity (A v = v) is kept to round-off at every
+// order. v_F replaces v^{n+1} in the momentum arrays: G2P gives the particle v_p = S v_F (the
+// FMPM particle update: v_p^{n+1} = S v^(k), no FLIP increment) and the displacement S v_F dt.
+// NairnMPM's FMPM moves a particle by the mean of its old and new velocities, both S v^(k), so
+// the position follows the filtered velocity; in this code's staggered leapfrog the particle
+// velocity is v^{n+1/2} itself and x^{n+1} = x^n + dt S v_F is that update. FMPM(1) therefore
+// is PIC (pic_fraction 1) bitwise: no pass runs and v_F = v^{n+1}.
+template <class Shape>
+void Simulation::Impl::fmpm() {
+  auto& N = grid.nodes();
+  const std::size_t nodes = N.px.size();
+  std::vector<double>* mom[3] = {&N.px, &N.py, &N.pz};
+  series_arrays(mom, xpic_v, xpic_term, xpic_target, xpic_w, nodes, sim.particles_.size(), false);
+  node_loop(nodes, [&](std::size_t i) {
+    for (int d = 0; d < 3; ++d) xpic_term[d][i] = xpic_v[d][i];  // v^(1) = M_L^{-1} p^{n+1}
+  });
+  series_passes<Shape>(sim.config_.fmpm_order, [&](int, std::size_t i) {
+    for (int d = 0; d < 3; ++d) {
+      xpic_term[d][i] = xpic_v[d][i] + (xpic_term[d][i] - (*mom[d])[i]);  // v1 + (I - A) v
+    }
+  });
+  for (int d = 0; d < 3; ++d) xpic_term[d].swap(*mom[d]);  // v_F where G2P reads v^{n+1}
 }
 
 template <class Shape>
@@ -1087,7 +1200,7 @@ void Simulation::Impl::g2p() {
   in.dt_position = dt_step;
   // The share of the filtered grid velocity in the particle update (TransferKind).
   in.pic_fraction = filtered_share();
-  if (sim.config_.transfer == TransferKind::xpic && sim.config_.xpic_order > 1) {
+  if (sim.config_.transfer == TransferKind::xpic && sim.config_.xpic_order > 1 && filtering) {
     in.fvx = xpic_target[0].data();
     in.fvy = xpic_target[1].data();
     in.fvz = xpic_target[2].data();

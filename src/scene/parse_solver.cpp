@@ -11,7 +11,7 @@ namespace {
 
 const std::vector<std::string> kMethods = {"mpm", "sph"};
 const std::vector<std::string> kShapes = {"linear", "ugimp", "bspline2"};
-const std::vector<std::string> kTransfers = {"flip", "apic", "xpic"};
+const std::vector<std::string> kTransfers = {"flip", "apic", "xpic", "fmpm"};
 const std::vector<std::string> kPlanes = {"none", "x", "y", "z"};
 const std::vector<std::string> kBoundaries = {"none", "fixed", "slip", "symmetry", "outflow"};
 const std::vector<std::string> kContacts = {"single_field", "multi_field"};
@@ -34,9 +34,11 @@ void read_solver(Reader& root, Scene& scene) {
   toml::table* t = root.subtable("solver");
   if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
   Reader r(*t, "solver");
-  r.allow({"method", "shape", "transfer", "cell_size", "cfl", "end_time", "dt_max", "dt_min",
-           "gravity", "symmetry_plane", "reorder_interval", "viscosity", "sph", "contact",
-           "friction", "contact_pair", "dt_floor_ratio", "pic_fraction", "xpic_order"});
+  r.allow({"method",           "shape",          "transfer",     "cell_size",  "cfl",
+           "end_time",         "dt_max",         "dt_min",       "gravity",    "symmetry_plane",
+           "reorder_interval", "viscosity",      "sph",          "contact",    "friction",
+           "contact_pair",     "dt_floor_ratio", "pic_fraction", "xpic_order", "fmpm_order",
+           "filter_every"});
   r.reject_unknown();
 
   SolverConfig& c = scene.solver;
@@ -48,7 +50,8 @@ void read_solver(Reader& root, Scene& scene) {
   const std::string transfer = r.choice("transfer", "flip", kTransfers);
   c.transfer = transfer == "flip"   ? TransferKind::flip
                : transfer == "apic" ? TransferKind::apic
-                                    : TransferKind::xpic;
+               : transfer == "xpic" ? TransferKind::xpic
+                                    : TransferKind::fmpm;
   // FLIP/PIC blend fraction (flip only) and XPIC order (xpic only); TransferKind says what each
   // does. The blend is read only when given, so scenes without it resolve as before.
   r.note_range("pic_fraction", "[0, 1]; flip only; absent = 0 (pure FLIP)");
@@ -67,6 +70,26 @@ void read_solver(Reader& root, Scene& scene) {
     c.xpic_order = static_cast<int>(order);
   } else if (r.has("xpic_order")) {
     r.fail("xpic_order", "applies only with solver.transfer = \"xpic\"");
+  }
+  // FMPM order (fmpm only) and the periodic filter (xpic and fmpm: the filtered update on every
+  // N-th step, FLIP on the others).
+  r.note_range("fmpm_order", "[1, 32]; fmpm only");
+  if (c.transfer == TransferKind::fmpm) {
+    const auto order = r.integer("fmpm_order", c.fmpm_order);
+    if (order < 1 || order > 32)
+      r.fail("fmpm_order", fmt::format("must be an integer in [1, 32] (got {})", order));
+    c.fmpm_order = static_cast<int>(order);
+  } else if (r.has("fmpm_order")) {
+    r.fail("fmpm_order", "applies only with solver.transfer = \"fmpm\"");
+  }
+  r.note_range("filter_every", "integer >= 1 (steps); xpic and fmpm only; absent = 1");
+  if (r.has("filter_every")) {
+    if (c.transfer != TransferKind::xpic && c.transfer != TransferKind::fmpm)
+      r.fail("filter_every", "applies only with solver.transfer = \"xpic\" or \"fmpm\"");
+    const auto every = r.integer("filter_every", 1);
+    if (every < 1 || every > std::numeric_limits<int>::max())
+      r.fail("filter_every", fmt::format("must be an integer >= 1 (got {})", every));
+    c.filter_every = static_cast<int>(every);
   }
   c.cell_size = r.positive("cell_size", r.number("cell_size"));
   r.within("cell_size", c.cell_size, ranges::kMinLength, ranges::kMaxLength, "m",

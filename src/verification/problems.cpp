@@ -48,6 +48,8 @@ SolverConfig column_config(const RunSettings& run, double h) {
   cfg.transfer = run.transfer;
   cfg.pic_fraction = run.pic_fraction;
   cfg.xpic_order = run.xpic_order;
+  cfg.fmpm_order = run.fmpm_order;
+  cfg.filter_every = run.filter_every;
   cfg.cell_size = h;
   cfg.cfl = run.cfl;
   cfg.domain = detail::column_domain(h);

@@ -1,6 +1,7 @@
 // Error against resolution and run time for the verification problems with exact solutions
 // (shared/reference/verification-problems.md, problems 1 and 2): sweeps cell counts and shape
 // functions and writes one CSV row per run and error measure. tools/plot_convergence.py plots it.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> shapes{"linear", "ugimp", "bspline2"};
   std::vector<int> bar_cells{16, 32, 64, 128, 256};
   std::vector<int> mms_cells{4, 8, 16, 32, 64, 128};
+  std::vector<std::string> mms_amplitudes{"small", "large"};
   std::vector<std::string> problems{"bar", "mms"};
   int threads = 1;
   double periods = sv::VibratingBar{}.periods;
@@ -68,6 +70,8 @@ int main(int argc, char** argv) {
   std::string transfer = "flip";
   double pic_fraction = 0.0;
   int xpic_order = 5;
+  int fmpm_order = 5;
+  int filter_every = 1;
   double cfl = 0.3;
   bool append = false;
   app.add_option("-o,--output", out, "CSV file to write");
@@ -76,6 +80,10 @@ int main(int argc, char** argv) {
   app.add_option("--bar-cells", bar_cells, "cell counts along the vibrating bar")
       ->capture_default_str();
   app.add_option("--mms-cells", mms_cells, "cell counts of the manufactured solution")
+      ->capture_default_str();
+  app.add_option("--mms-amplitudes", mms_amplitudes,
+                 "which manufactured solutions: small (G = 1e-4), large (G = 0.05)")
+      ->check(CLI::IsMember({"small", "large"}))
       ->capture_default_str();
   app.add_option("--bar-periods", periods, "vibrating bar run time in periods")
       ->capture_default_str();
@@ -86,14 +94,22 @@ int main(int argc, char** argv) {
   app.add_option("--wall", wall, "condition at the clamped ends: fixed or symmetry")
       ->check(CLI::IsMember({"fixed", "symmetry"}))
       ->capture_default_str();
-  app.add_option("--transfer", transfer, "particle-grid velocity transfer: flip, apic or xpic")
-      ->check(CLI::IsMember({"flip", "apic", "xpic"}))
+  app.add_option("--transfer", transfer,
+                 "particle-grid velocity transfer: flip, apic, xpic or fmpm")
+      ->check(CLI::IsMember({"flip", "apic", "xpic", "fmpm"}))
       ->capture_default_str();
   app.add_option("--pic-fraction", pic_fraction, "FLIP/PIC blend: share of PIC (flip only)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--xpic-order", xpic_order, "XPIC order m (xpic only)")
       ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  app.add_option("--fmpm-order", fmpm_order, "FMPM order k (fmpm only)")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  app.add_option("--filter-every", filter_every,
+                 "XPIC/FMPM update on every N-th step only, FLIP on the others (xpic, fmpm)")
+      ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   app.add_option("--cfl", cfl, "Courant number (Eq. 34)")
       ->check(CLI::Range(1e-3, 1.0))
@@ -130,16 +146,21 @@ int main(int argc, char** argv) {
   if (transfer == "apic") scheme = "_apic";
   if (transfer == "flip" && pic_fraction > 0.0) scheme = fmt::format("_pic{:g}", pic_fraction);
   if (transfer == "xpic") scheme = fmt::format("_xpic{}", xpic_order);
+  if (transfer == "fmpm") scheme = fmt::format("_fmpm{}", fmpm_order);
+  if (filter_every != 1) scheme += fmt::format("_every{}", filter_every);
   if (cfl != 0.3) scheme += fmt::format("_cfl{:g}", cfl);
   if (bar_v0 != sv::VibratingBar{}.v0) scheme += fmt::format("_v0_{:g}", bar_v0);
   const std::string suffix = std::string(wall == "fixed" ? "" : "_symwall") + scheme;
   const auto transfer_kind = transfer == "flip"   ? shatter::TransferKind::flip
                              : transfer == "apic" ? shatter::TransferKind::apic
-                                                  : shatter::TransferKind::xpic;
+                             : transfer == "xpic" ? shatter::TransferKind::xpic
+                                                  : shatter::TransferKind::fmpm;
   auto settings = [&](int n, ShapeKind k) {
     sv::RunSettings s{n, k, threads, cfl, transfer_kind};
     s.pic_fraction = transfer == "flip" ? pic_fraction : 0.0;
     s.xpic_order = xpic_order;
+    s.fmpm_order = fmpm_order;
+    s.filter_every = filter_every;
     return s;
   };
   for (const auto& p : problems) {
@@ -158,6 +179,11 @@ int main(int argc, char** argv) {
         }
       } else {
         for (const auto& [name, G] : {std::pair{"mms_small", 1e-4}, std::pair{"mms_large", 0.05}}) {
+          const std::string amplitude = std::string(name).substr(4);
+          if (std::find(mms_amplitudes.begin(), mms_amplitudes.end(), amplitude) ==
+              mms_amplitudes.end()) {
+            continue;
+          }
           sv::ManufacturedSolution mms;
           mms.amplitude = G;
           mms.wall = wall_kind;

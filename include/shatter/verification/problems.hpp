@@ -72,6 +72,8 @@ struct RunSettings {
   TransferKind transfer = TransferKind::flip;
   double pic_fraction = 0.0;  // SolverConfig::pic_fraction (flip only)
   int xpic_order = 5;         // SolverConfig::xpic_order (xpic only)
+  int fmpm_order = 5;         // SolverConfig::fmpm_order (fmpm only)
+  int filter_every = 1;       // SolverConfig::filter_every (xpic and fmpm only)
 };
 
 struct BarErrors {

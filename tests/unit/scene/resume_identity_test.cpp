@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <string>
+
 #include "../io/scratch_dir.hpp"
 #include "shatter/io/checkpoint.hpp"
 #include "shatter/mpm/simulation.hpp"
@@ -53,10 +56,10 @@ void expect_bitwise_equal(const ParticleStore& a, const ParticleStore& b) {
   for (std::size_t p = 0; p < a.size(); ++p) ASSERT_EQ(a.col(IField::id)[p], b.col(IField::id)[p]);
 }
 
-TEST(ResumeIdentity, CheckpointHalfwayAndResumeMatchesAnUninterruptedRunBitwise) {
+void resume_matches(const std::string& text) {
   constexpr int kSteps = 40;
   test::ScratchDir dir;
-  const scene::Scene s = scene::parse_scene(kScene, "resume.toml");
+  const scene::Scene s = scene::parse_scene(text, "resume.toml");
 
   scene::BuiltScene straight = scene::build(s);
   Simulation a(s.solver, std::move(straight.particles), straight.materials, 2);
@@ -86,6 +89,67 @@ TEST(ResumeIdentity, CheckpointHalfwayAndResumeMatchesAnUninterruptedRunBitwise)
   EXPECT_EQ(r.energy().internal, a.energy().internal);
   EXPECT_EQ(r.energy().outflow, a.energy().outflow);
   expect_bitwise_equal(a.particles(), r.particles());
+}
+
+// The scene with another [solver] transfer (lines added after symmetry_plane).
+std::string with_transfer(const std::string& lines) {
+  std::string text = kScene;
+  const std::string anchor = "symmetry_plane = \"z\"\n";
+  text.insert(text.find(anchor) + anchor.size(), lines);
+  return text;
+}
+
+TEST(ResumeIdentity, CheckpointHalfwayAndResumeMatchesAnUninterruptedRunBitwise) {
+  resume_matches(kScene);
+}
+
+// Periodic filtering (solver.filter_every): the phase comes from Clock::step, which the
+// checkpoint carries, so a resume at step 20 with N = 3 filters at 21, 24, ... as the straight
+// run does (a phase restarted at the resume would filter at 23, 26, ... and differ).
+TEST(ResumeIdentity, PeriodicXpicAndFmpmResumeBitwise) {
+  resume_matches(with_transfer("transfer = \"xpic\"\nxpic_order = 3\nfilter_every = 3\n"));
+  resume_matches(with_transfer("transfer = \"fmpm\"\nfmpm_order = 3\nfilter_every = 3\n"));
+}
+
+// filter_every = N is plain FLIP on the steps between filtering steps, bitwise: steps 1-3 of
+// N = 4 equal FLIP's from the same start, step 4 (filtered) does not, and step 5 taken from the
+// state after step 4 equals a FLIP step from that same state (checkpointed after step 4 and
+// resumed with transfer = "flip"). Bitwise, no tolerance: on those steps the engine takes
+// FLIP's branches and nothing else.
+TEST(PeriodicFilter, OffStepsAreFlipBitwise) {
+  for (const std::string& lines : {std::string("transfer = \"xpic\"\nxpic_order = 3\n"),
+                                   std::string("transfer = \"fmpm\"\nfmpm_order = 3\n")}) {
+    test::ScratchDir dir;
+    const scene::Scene periodic =
+        scene::parse_scene(with_transfer(lines + "filter_every = 4\n"), "periodic.toml");
+    const scene::Scene flip = scene::parse_scene(kScene, "flip.toml");
+    scene::BuiltScene bp = scene::build(periodic), bf = scene::build(flip);
+    Simulation p(periodic.solver, std::move(bp.particles), bp.materials, 1);
+    Simulation f(flip.solver, std::move(bf.particles), bf.materials, 1);
+    for (int k = 0; k < 3; ++k) {
+      p.step();
+      f.step();
+    }
+    expect_bitwise_equal(f.particles(), p.particles());
+    p.step();
+    f.step();
+    const auto a = p.particles().col(Field::vx), b = f.particles().col(Field::vx);
+    EXPECT_NE(std::memcmp(a.data(), b.data(), a.size_bytes()), 0) << lines;  // step 4 filtered
+
+    RunState state;
+    state.clock = p.clock();
+    state.energy = p.energy();
+    state.scene_text = flip.resolved;
+    write_checkpoint(dir / "c.h5", p.particles(), state);
+    const Checkpoint c = read_checkpoint(dir / "c.h5");
+    Simulation r(flip.solver, ParticleStore(c.particles), scene::build_materials(flip), 1);
+    restore_columns(r.particles(), c.particles);
+    r.restore(c.state.clock, c.state.energy);
+    p.step();
+    r.step();
+    EXPECT_EQ(r.energy().kinetic, p.energy().kinetic) << lines;
+    expect_bitwise_equal(p.particles(), r.particles());
+  }
 }
 
 }  // namespace

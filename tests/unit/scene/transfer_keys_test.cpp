@@ -28,6 +28,22 @@ TEST(TransferKeys, DefaultIsPlainFlipAndResolvesWithoutTheNewKeys) {
   // Scenes that do not use the blend resolve as before (no new keys written back).
   EXPECT_EQ(s.resolved.find("pic_fraction"), std::string::npos) << s.resolved;
   EXPECT_EQ(s.resolved.find("xpic_order"), std::string::npos) << s.resolved;
+  EXPECT_EQ(s.resolved.find("fmpm_order"), std::string::npos) << s.resolved;
+  EXPECT_EQ(s.resolved.find("filter_every"), std::string::npos) << s.resolved;
+  EXPECT_EQ(s.solver.filter_every, 1);
+}
+
+TEST(TransferKeys, FmpmTakesItsOrderAndThePeriodicFilter) {
+  const Scene s = parse(solver_with("transfer = \"fmpm\"\nfmpm_order = 7\nfilter_every = 20"));
+  EXPECT_EQ(s.solver.transfer, TransferKind::fmpm);
+  EXPECT_EQ(s.solver.fmpm_order, 7);
+  EXPECT_EQ(s.solver.filter_every, 20);
+  const Scene d = parse(solver_with("transfer = \"fmpm\""));
+  EXPECT_EQ(d.solver.fmpm_order, 5);
+  EXPECT_EQ(d.solver.filter_every, 1);
+  EXPECT_NE(d.resolved.find("fmpm_order = 5"), std::string::npos) << d.resolved;
+  const Scene x = parse(solver_with("transfer = \"xpic\"\nxpic_order = 2\nfilter_every = 5"));
+  EXPECT_EQ(x.solver.filter_every, 5);
 }
 
 TEST(TransferKeys, XpicTakesItsOrderAndDefaultsToFive) {
@@ -56,6 +72,22 @@ TEST(TransferKeys, OutOfRangeOrMisplacedKeysNameTheKey) {
         std::string("transfer = \"xpic\"\nxpic_order = 2.5"), std::string("xpic_order = 3")}) {
     const std::string text = solver_with(lines);
     expect_names(error_of(text), line_of(text, "xpic_order"), "solver.xpic_order");
+  }
+  for (const std::string& lines :
+       {std::string("transfer = \"fmpm\"\nfmpm_order = 0"),
+        std::string("transfer = \"fmpm\"\nfmpm_order = 33"),
+        std::string("transfer = \"fmpm\"\nfmpm_order = 1.5"), std::string("fmpm_order = 3"),
+        std::string("transfer = \"xpic\"\nfmpm_order = 3")}) {
+    const std::string text = solver_with(lines);
+    expect_names(error_of(text), line_of(text, "fmpm_order"), "solver.fmpm_order");
+  }
+  for (const std::string& lines :
+       {std::string("transfer = \"fmpm\"\nfilter_every = 0"),
+        std::string("transfer = \"xpic\"\nfilter_every = -3"),
+        std::string("transfer = \"fmpm\"\nfilter_every = 2.5"), std::string("filter_every = 5"),
+        std::string("transfer = \"apic\"\nfilter_every = 5")}) {
+    const std::string text = solver_with(lines);
+    expect_names(error_of(text), line_of(text, "filter_every"), "solver.filter_every");
   }
   const std::string unknown = solver_with("transfer = \"xpik\"");
   const std::string msg = error_of(unknown);

@@ -17,7 +17,8 @@ using Eigen::Vector3d;
 namespace {
 
 std::unique_ptr<Simulation> run(int threads, ShapeKind shape, TransferKind transfer,
-                                ContactKind contact = ContactKind::single_field) {
+                                ContactKind contact = ContactKind::single_field,
+                                int filter_every = 1) {
   ParticleStore s;
   test::add_sphere(s, 0, Vector3d(0.2, 0.2, 0.2), 0.2, 0.025, 1000.0, Vector3d(1, 1, 0.5), 0);
   test::add_sphere(s, 0, Vector3d(0.62, 0.62, 0.4), 0.2, 0.025, 1000.0, Vector3d(-1, -1, 0), 1);
@@ -25,6 +26,8 @@ std::unique_ptr<Simulation> run(int threads, ShapeKind shape, TransferKind trans
   cfg.shape = shape;
   cfg.transfer = transfer;
   cfg.xpic_order = 3;  // xpic only: two extra passes, so the recursion over k is exercised
+  cfg.fmpm_order = 3;  // fmpm only: likewise
+  cfg.filter_every = filter_every;
   cfg.cell_size = 0.05;
   cfg.gravity = Vector3d(0, 0, -9.81);
   cfg.domain.lo.z() = -0.2;
@@ -68,7 +71,9 @@ INSTANTIATE_TEST_SUITE_P(AllShapesAndTransfers, ThreadCount,
                                            std::tuple{ShapeKind::bspline2, TransferKind::flip},
                                            std::tuple{ShapeKind::ugimp, TransferKind::apic},
                                            std::tuple{ShapeKind::bspline2, TransferKind::apic},
-                                           std::tuple{ShapeKind::ugimp, TransferKind::xpic}),
+                                           std::tuple{ShapeKind::ugimp, TransferKind::xpic},
+                                           std::tuple{ShapeKind::ugimp, TransferKind::fmpm},
+                                           std::tuple{ShapeKind::bspline2, TransferKind::fmpm}),
                          [](const auto& param_info) {
                            return std::string(name_of(std::get<0>(param_info.param))) + "_" +
                                   std::string(name_of(std::get<1>(param_info.param)));
@@ -96,6 +101,25 @@ TEST(ThreadCountContact, OneAndTwoThreadsGiveBitwiseIdenticalStateWithMultiField
     const auto c = run(1, ShapeKind::ugimp, transfer, ContactKind::single_field);
     const auto va = a->particles().col(Field::vx), vc = c->particles().col(Field::vx);
     EXPECT_NE(std::memcmp(va.data(), vc.data(), va.size_bytes()), 0);
+  }
+}
+
+// Periodic filtering (SolverConfig::filter_every = 3 of 80 steps) switches between the FLIP and
+// the XPIC/FMPM branches on a counter, never on thread-dependent data; bitwise as above.
+TEST(ThreadCountPeriodic, OneAndTwoThreadsGiveBitwiseIdenticalStateWithFilterEvery) {
+  for (const TransferKind transfer : {TransferKind::xpic, TransferKind::fmpm}) {
+    const auto a = run(1, ShapeKind::ugimp, transfer, ContactKind::single_field, 3);
+    const auto b = run(2, ShapeKind::ugimp, transfer, ContactKind::single_field, 3);
+    ASSERT_EQ(a->particles().size(), b->particles().size());
+    EXPECT_EQ(a->energy().kinetic, b->energy().kinetic);
+    EXPECT_EQ(a->energy().boundary_work, b->energy().boundary_work);
+    for (std::size_t i = 0; i < kFieldCount; ++i) {
+      const Field f = static_cast<Field>(i);
+      if (!a->particles().has(f)) continue;
+      const auto ca = a->particles().col(f);
+      const auto cb = b->particles().col(f);
+      EXPECT_EQ(std::memcmp(ca.data(), cb.data(), ca.size_bytes()), 0) << name_of(f);
+    }
   }
 }
 
