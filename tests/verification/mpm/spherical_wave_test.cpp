@@ -55,30 +55,33 @@ using namespace shatter::test::spherical_wave;
 
 namespace {
 
-// The particle-grid transfer of a run, as the scene keys solver.transfer, pic_fraction and
-// xpic_order (docs/verification.md, "Transfer schemes"); default FLIP.
+// The particle-grid transfer of a run, as the scene keys solver.transfer, pic_fraction,
+// xpic_order and fmpm_order (docs/verification.md, "Transfer schemes"); default FLIP.
 struct Transfer {
   TransferKind kind = TransferKind::flip;
   double pic_fraction = 0.0;
   int xpic_order = 5;
+  int fmpm_order = 5;
   void apply(SolverConfig& cfg) const {
     cfg.transfer = kind;
     cfg.pic_fraction = pic_fraction;
     cfg.xpic_order = xpic_order;
+    cfg.fmpm_order = fmpm_order;
   }
   // docs/convergence.csv's scheme suffix (tools/plot_convergence.py): none for FLIP, _pic<f> for
-  // the blend (_pic1: PIC), _xpic<m>, _apic.
+  // the blend (_pic1: PIC), _xpic<m>, _fmpm<k>, _apic.
   std::string suffix() const {
     std::ostringstream s;
     if (kind == TransferKind::apic) s << "_apic";
     if (kind == TransferKind::xpic) s << "_xpic" << xpic_order;
+    if (kind == TransferKind::fmpm) s << "_fmpm" << fmpm_order;
     if (kind == TransferKind::flip && pic_fraction > 0.0) s << "_pic" << pic_fraction;
     return s.str();
   }
 };
 
-// SPHERICAL_WAVE_TRANSFER, _PIC_FRACTION, _XPIC_ORDER (the study only); bad values throw, naming
-// the variable.
+// SPHERICAL_WAVE_TRANSFER, _PIC_FRACTION, _XPIC_ORDER, _FMPM_ORDER (the study only); bad values
+// throw, naming the variable.
 Transfer transfer_from_environment() {
   Transfer t;
   if (const char* kind = std::getenv("SPHERICAL_WAVE_TRANSFER")) {
@@ -89,8 +92,11 @@ Transfer transfer_from_environment() {
       t.kind = TransferKind::apic;
     } else if (k == "xpic") {
       t.kind = TransferKind::xpic;
+    } else if (k == "fmpm") {
+      t.kind = TransferKind::fmpm;
     } else {
-      throw std::invalid_argument("SPHERICAL_WAVE_TRANSFER=" + k + ": expected flip, apic or xpic");
+      throw std::invalid_argument("SPHERICAL_WAVE_TRANSFER=" + k +
+                                  ": expected flip, apic, xpic or fmpm");
     }
   }
   if (const char* f = std::getenv("SPHERICAL_WAVE_PIC_FRACTION")) {
@@ -110,6 +116,15 @@ Transfer transfer_from_environment() {
                                   ": expected an integer in [1, 32], with the xpic transfer");
     }
     t.xpic_order = static_cast<int>(order);
+  }
+  if (const char* m = std::getenv("SPHERICAL_WAVE_FMPM_ORDER")) {
+    char* end = nullptr;
+    const long order = std::strtol(m, &end, 10);
+    if (end == m || *end != '\0' || order < 1 || order > 32 || t.kind != TransferKind::fmpm) {
+      throw std::invalid_argument(std::string("SPHERICAL_WAVE_FMPM_ORDER=") + m +
+                                  ": expected an integer in [1, 32], with the fmpm transfer");
+    }
+    t.fmpm_order = static_cast<int>(order);
   }
   return t;
 }
