@@ -93,6 +93,16 @@ std::vector<std::pair<std::int64_t, double>> weights_1d(double x, double size0) 
   return {{first, w[0]}, {first + 1, w[1]}, {first + 2, w[2]}};
 }
 
+// A stressed, colliding pair of elastic spheres after 60 steps (the order-one identities below).
+std::unique_ptr<Simulation> colliding_pair(const SolverConfig& cfg) {
+  ParticleStore s;
+  test::add_sphere(s, 0, Vector3d(0.2, 0.2, 0.2), 0.2, 0.05, 1000.0, Vector3d(1, 1, 0.5), 0);
+  test::add_sphere(s, 0, Vector3d(0.62, 0.62, 0.4), 0.2, 0.05, 1000.0, Vector3d(-1, -1, 0), 1);
+  auto sim = std::make_unique<Simulation>(cfg, std::move(s), elastic(), 1);
+  for (int k = 0; k < 60; ++k) sim->step();
+  return sim;
+}
+
 }  // namespace
 
 // XPIC(m) against its definition. With no stress and no body force the grid acceleration is
@@ -180,17 +190,9 @@ TEST(Xpic, FirstStepEqualsTheDenseProjection) {
 // XPIC(1) is PIC (Hammerquist & Nairn 2017): the engine takes the same branch, so the two agree
 // bitwise over many steps of a stressed, colliding pair.
 TEST(Xpic, OrderOneIsPicBitwise) {
-  auto run = [](const SolverConfig& cfg) {
-    ParticleStore s;
-    test::add_sphere(s, 0, Vector3d(0.2, 0.2, 0.2), 0.2, 0.05, 1000.0, Vector3d(1, 1, 0.5), 0);
-    test::add_sphere(s, 0, Vector3d(0.62, 0.62, 0.4), 0.2, 0.05, 1000.0, Vector3d(-1, -1, 0), 1);
-    auto sim = std::make_unique<Simulation>(cfg, std::move(s), elastic(), 1);
-    for (int k = 0; k < 60; ++k) sim->step();
-    return sim;
-  };
-  const auto xpic = run(config(TransferKind::xpic, 0.0, 1));
-  const auto pic = run(config(TransferKind::flip, 1.0));
-  const auto flip = run(config(TransferKind::flip));
+  const auto xpic = colliding_pair(config(TransferKind::xpic, 0.0, 1));
+  const auto pic = colliding_pair(config(TransferKind::flip, 1.0));
+  const auto flip = colliding_pair(config(TransferKind::flip));
   for (const Field f : {Field::x, Field::vx, Field::vy, Field::sxx, Field::rho}) {
     const auto a = xpic->particles().col(f), b = pic->particles().col(f);
     EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size_bytes()), 0) << name_of(f);
@@ -205,16 +207,8 @@ TEST(Xpic, OrderOneIsPicBitwise) {
 // S v^{n+1} and moves by S v^{n+1} dt, which is the pic_fraction = 1 update; bitwise over 60
 // steps of a stressed, colliding pair.
 TEST(Fmpm, OrderOneIsPicBitwise) {
-  auto run = [](const SolverConfig& cfg) {
-    ParticleStore s;
-    test::add_sphere(s, 0, Vector3d(0.2, 0.2, 0.2), 0.2, 0.05, 1000.0, Vector3d(1, 1, 0.5), 0);
-    test::add_sphere(s, 0, Vector3d(0.62, 0.62, 0.4), 0.2, 0.05, 1000.0, Vector3d(-1, -1, 0), 1);
-    auto sim = std::make_unique<Simulation>(cfg, std::move(s), elastic(), 1);
-    for (int k = 0; k < 60; ++k) sim->step();
-    return sim;
-  };
-  const auto fmpm = run(config(TransferKind::fmpm, 0.0, 1));
-  const auto pic = run(config(TransferKind::flip, 1.0));
+  const auto fmpm = colliding_pair(config(TransferKind::fmpm, 0.0, 1));
+  const auto pic = colliding_pair(config(TransferKind::flip, 1.0));
   for (const Field f : {Field::x, Field::vx, Field::vy, Field::sxx, Field::rho}) {
     const auto a = fmpm->particles().col(f), b = pic->particles().col(f);
     EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size_bytes()), 0) << name_of(f);
