@@ -70,6 +70,36 @@ parallel::ExactSum exact_sum(std::size_t n, F&& term) {
       });
 }
 
+// -|p_I|^2 / (2 m_I) of one block's nodes (v: mass, px, py, pz of the block), the node half of
+// the unresolved kinetic energy (Simulation::Impl::unresolved_kinetic); empty nodes add nothing.
+void add_node_unresolved(const double* const (&v)[4], parallel::ExactSum& acc) {
+  for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
+    const double M = v[0][l];
+    if (!(M > 0.0)) continue;
+    acc.add(-0.5 * (v[1][l] * v[1][l] + v[2][l] * v[2][l] + v[3][l] * v[3][l]) / M);
+  }
+}
+
+// The same over the blocks b < blocks with counted(b), field f of block b at at(b, f).
+template <class Counted, class At>
+parallel::ExactSum node_unresolved(std::size_t blocks, Counted&& counted, At&& at) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(blocks), 16),
+      parallel::ExactSum{},
+      [&](const tbb::blocked_range<std::uint32_t>& r, parallel::ExactSum acc) {
+        for (std::uint32_t b = r.begin(); b < r.end(); ++b) {
+          if (!counted(b)) continue;
+          const double* const v[4] = {at(b, 0), at(b, 1), at(b, 2), at(b, 3)};
+          add_node_unresolved(v, acc);
+        }
+        return acc;
+      },
+      [](parallel::ExactSum a, const parallel::ExactSum& b) {
+        a.add(b);
+        return a;
+      });
+}
+
 SparseGrid::Coord decode_key(std::uint64_t k) {
   constexpr std::int64_t off = std::int64_t{1} << 20;
   constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
@@ -222,6 +252,9 @@ struct Simulation::Impl {
   // Sums of the step, combined over ranks after the graph (finish_step).
   parallel::ExactSum kinetic_sum, potential_sum, internal_sum, carried_sum, carried_internal_sum,
       removed_sum;
+  // Unresolved kinetic energy (issue 16, docs/outputs.md): sum_p m_p |v_p|^2/2 of the velocities
+  // the step's P2G transferred, plus -sum_I |p_I|^2/(2 m_I) of its nodes, in one exact sum.
+  parallel::ExactSum transferred_sum, unresolved_sum;
   double fastest = 0.0;
   std::string failure;  // a numerical failure of this rank in this step (distributed runs)
   std::size_t failure_particle = 0;
@@ -231,6 +264,9 @@ struct Simulation::Impl {
   std::vector<std::uint64_t> owner_keys;
   std::vector<std::uint32_t> order;
   AlignedVector<double> dx, dy, dz, kinetic, potential;
+  // 1/2 m_p |v_p|^2 of the velocity each particle scattered in this step's P2G (v^{n-1/2}),
+  // written by G2P; outflow does not drop the departed ones (their momentum is on the nodes).
+  AlignedVector<double> kinetic_transferred;
   AlignedVector<double> bx, by, bz;  // body force per unit mass, when the scene has one
   // Each particle's stencil (weights, gradients, offsets), stored by the sort stage and read by
   // every transfer of the step (kernels::StencilCache).
@@ -296,6 +332,7 @@ struct Simulation::Impl {
   template <class Shape>
   void p2g_bodies(const kernels::P2GParticles& in, bool with_force);
   void grid_update();
+  void unresolved_kinetic();
   double filtered_share() const;
   bool filters_step(std::uint64_t step) const;
   template <class Shape, class Update>
@@ -825,7 +862,7 @@ void Simulation::Impl::sort() {
   ParticleStore& P = sim.particles_;
   const std::size_t n = P.size();
   owner_keys.resize(n);
-  for (auto* v : {&dx, &dy, &dz, &kinetic, &potential}) v->resize(n);
+  for (auto* v : {&dx, &dy, &dz, &kinetic, &potential, &kinetic_transferred}) v->resize(n);
   stencil_w.resize(n * kernels::Stencil<Shape>::kRow);
   stencil_off.resize(n);
 
@@ -1002,6 +1039,9 @@ void Simulation::Impl::p2g_bodies(const kernels::P2GParticles& in, bool with_for
 void Simulation::Impl::grid_update() {
   const Clock& clk = sim.clock_;
   const double dt_kick = 0.5 * (clk.dt_prev + dt_step);  // leapfrog dt^n (Fig. 16)
+  // The resolved kinetic energy of the P2G, before the mirror folds images in and before the
+  // boundary conditions and the momentum update change the nodes.
+  unresolved_kinetic();
   // (several ranks: the owners mirrored the halo blocks, halo_reduce)
   if (!dist) boundaries.mirror(grid, mpm::Boundaries::kMassMomentumForce);
   boundaries.integrate(grid, sim.config_.gravity, dt_kick, empty_mass, dist ? &halo.owned : nullptr,
@@ -1028,6 +1068,30 @@ void Simulation::Impl::grid_update() {
   // The same holds for the share of the grid velocity that PIC, XPIC and the FLIP/PIC blend hand
   // the particles.
   // (booked in finish_step, summed over the ranks)
+}
+
+// -sum_I |p_I|^2 / (2 m_I) over the nodes of the step's force-carrying P2G, p_I and m_I the
+// lumped momentum sum_p m_p N_I(x_p) v_p and mass sum_p m_p N_I(x_p) (Eqs. 29, 32), added to
+// the particles' sum_p m_p |v_p|^2/2 of the same velocities (energy()) it is the kinetic energy
+// the grid does not represent: >= 0, since with sum_I N_I(x_p) = 1 the nodal velocity p_I/m_I is
+// a mass-weighted mean of the v_p (Cauchy-Schwarz: |p_I|^2 <= m_I sum_p m_p N_I |v_p|^2). It is
+// exactly the kinetic energy the grid velocity lacks, and so the least one PIC transfer
+// v_p <- sum_I N_I p_I/m_I takes away (the gather loses more: sum_p m_p |S V|^2/2 <=
+// sum_I m_I |V_I|^2/2 by the same argument). Zero for a rigid translation. Body copies hold each
+// body's own field where bodies meet (the shared nodes there are empty), so the sum is over every
+// body's field. One rank: the raw scatter, before the mirror of symmetry/fixed planes folds images
+// in, so the nodes beyond a plane hold only the real particles' own weights and nothing is counted
+// twice. Several ranks: halo_reduce sums each node on its owner, from the same complete sums before
+// the same mirror, so the value is the one process's, bit for bit (an exact sum).
+void Simulation::Impl::unresolved_kinetic() {
+  if (dist) return;  // summed in halo_reduce, before its mirror
+  auto& N = grid.nodes();
+  unresolved_sum = node_unresolved(
+      grid.blocks(), [](std::uint32_t) { return true; },
+      [&](std::uint32_t b, int f) {
+        double* const a[4] = {N.mass.data(), N.px.data(), N.py.data(), N.pz.data()};
+        return a[f] + std::size_t{b} * SparseGrid::kBlockNodes;
+      });
 }
 
 double Simulation::Impl::filtered_share() const {
@@ -1215,6 +1279,7 @@ void Simulation::Impl::g2p() {
     const double vn[3] = {v0[0] + w * (in.vx[p] - v0[0]), v0[1] + w * (in.vy[p] - v0[1]),
                           v0[2] + w * (in.vz[p] - v0[2])};
     kinetic[p] = 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
+    kinetic_transferred[p] = 0.5 * mass[p] * (v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]);
     potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
   };
   for_each_run<kernels::G2PWindow>(
@@ -1339,7 +1404,26 @@ void Simulation::Impl::energy() {
   ParticleStore& P = sim.particles_;
   const auto m = P.col(Field::mass), e = P.col(Field::energy);
   // This rank's exact sums; finish_step combines them over the ranks and books them.
-  kinetic_sum = exact_sum(kinetic.size(), [&](std::size_t p) { return kinetic[p]; });
+  // One pass for both kinetic sums; kinetic_transferred keeps the particles outflow removed
+  // (their P2G momentum is on the nodes unresolved_kinetic() summed), so it may be longer.
+  const std::size_t nk = kinetic.size(), nt = kinetic_transferred.size();
+  using Pair = std::array<parallel::ExactSum, 2>;
+  const Pair both = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, std::max(nk, nt), kParticleGrain), Pair{},
+      [&](const tbb::blocked_range<std::size_t>& r, Pair acc) {
+        for (std::size_t p = r.begin(); p < r.end(); ++p) {
+          if (p < nk) acc[0].add(kinetic[p]);
+          if (p < nt) acc[1].add(kinetic_transferred[p]);
+        }
+        return acc;
+      },
+      [](Pair a, const Pair& b) {
+        a[0].add(b[0]);
+        a[1].add(b[1]);
+        return a;
+      });
+  kinetic_sum = both[0];
+  transferred_sum = both[1];
   potential_sum = exact_sum(potential.size(), [&](std::size_t p) { return potential[p]; });
   internal_sum = exact_sum(P.size(), [&](std::size_t p) { return m[p] * e[p]; });
 }
@@ -1461,30 +1545,36 @@ void Simulation::Impl::finish_step() {
   if (flags[2] == 0.0) {
     throw NumericalError("every particle has left through the outflow boundaries", 0, clk.step);
   }
-  parallel::ExactSum* sums[] = {&kinetic_sum, &potential_sum,        &internal_sum,
-                                &carried_sum, &carried_internal_sum, &removed_sum};
-  double v[6];
+  // The unresolved sum: the transferred kinetic energy plus the (negative) nodal terms, exactly.
+  unresolved_sum.add(transferred_sum);
+  constexpr int kSums = 8;
+  parallel::ExactSum* sums[kSums] = {&kinetic_sum,     &potential_sum,        &internal_sum,
+                                     &carried_sum,     &carried_internal_sum, &removed_sum,
+                                     &transferred_sum, &unresolved_sum};
+  double v[kSums];
   if (dist) {
     constexpr int L = parallel::ExactSum::kLimbs;
-    std::vector<std::int64_t> limbs(6 * L + 6);
-    for (int k = 0; k < 6; ++k) {
+    std::vector<std::int64_t> limbs(kSums * L + kSums);
+    for (int k = 0; k < kSums; ++k) {
       sums[k]->normalise();
       std::copy(sums[k]->limbs().begin(), sums[k]->limbs().end(), limbs.begin() + k * L);
       const double sp = sums[k]->special();
-      limbs[6 * L + static_cast<std::size_t>(k)] = sp != 0.0 || std::isnan(sp) ? 1 : 0;
+      limbs[kSums * L + static_cast<std::size_t>(k)] = sp != 0.0 || std::isnan(sp) ? 1 : 0;
     }
     comm.sum(limbs);
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < kSums; ++k) {
       std::copy(limbs.begin() + k * L, limbs.begin() + (k + 1) * L, sums[k]->limbs().begin());
-      sums[k]->special() = limbs[6 * L + static_cast<std::size_t>(k)] > 0 ? std::nan("") : 0.0;
+      sums[k]->special() = limbs[kSums * L + static_cast<std::size_t>(k)] > 0 ? std::nan("") : 0.0;
     }
   }
-  for (int k = 0; k < 6; ++k) {
+  for (int k = 0; k < kSums; ++k) {
     v[k] = sums[k]->value();
     *sums[k] = parallel::ExactSum{};
   }
   E.kinetic = v[0];
   E.potential = v[1];
+  E.transferred_kinetic = v[6];
+  E.unresolved_kinetic = v[7];
   // Internal energy at t^n was summed at the end of the previous step; what left through an
   // outflow face in this step is booked as outflow instead (see outflow()).
   E.internal = internal_next - v[4];
@@ -1799,6 +1889,31 @@ void Simulation::Impl::halo_reduce(int fields) {
                         }
                       }
                     });
+  // The unresolved kinetic energy's node sum (unresolved_kinetic()) on several ranks: every node
+  // by its owner, from the complete sums before 2b mirrors them, as one process sums its nodes
+  // before its mirror. Owned blocks outside the halo are complete after the scatter (no other
+  // rank reaches them, none is near a plane); owned halo blocks are the targets, local or not.
+  if (fields == kForceFields) {
+    std::vector<std::uint8_t> target(grid.blocks(), 0);
+    for (const Target& tg : targets) {
+      if (tg.block >= 0) target[static_cast<std::size_t>(tg.block)] = 1;
+    }
+    parallel::ExactSum acc = node_unresolved(
+        grid.blocks(), [&](std::uint32_t b) { return halo.owned[b] != 0 && target[b] == 0; },
+        [&](std::uint32_t b, int f) {
+          return F[static_cast<std::size_t>(f)]->data() + std::size_t{b} * BN;
+        });
+    for (const Target& tg : targets) {
+      const double* v[4];
+      for (int f = 0; f < 4; ++f) {
+        v[f] = tg.block >= 0 ? F[static_cast<std::size_t>(f)]->data() +
+                                   static_cast<std::size_t>(tg.block) * BN
+                             : temp.data() + tg.temp + static_cast<std::size_t>(f) * BN;
+      }
+      add_node_unresolved(v, acc);
+    }
+    unresolved_sum = acc;
+  }
   // 2b. symmetry and fixed planes, on the owner's complete sums (every block near a plane is a
   // halo block, and a ghost and its partner have one owner: Decomposition::set_planes)
   if (!decomp_planes_empty()) {

@@ -203,11 +203,20 @@ MmsErrors run_manufactured_solution(const ManufacturedSolution& problem, const R
   };
   MmsErrors out;
   double t_x = 0.0;
+  auto unresolved = [&] {
+    const EnergyBudget& e = sim.energy();
+    return e.transferred_kinetic > 0.0 ? e.unresolved_kinetic / e.transferred_kinetic : 0.0;
+  };
+  double unresolved_dt = 0.0, transferred_dt = 0.0;
   run_to(sim, problem.t_end, [&](double tx, double) {
     out.displacement_l2_max = std::max(out.displacement_l2_max, l2(tx));
+    unresolved_dt += sim.energy().unresolved_kinetic * sim.clock().dt_prev;
+    transferred_dt += sim.energy().transferred_kinetic * sim.clock().dt_prev;
     t_x = tx;
   });
+  out.unresolved_fraction_run = transferred_dt > 0.0 ? unresolved_dt / transferred_dt : 0.0;
   out.displacement_l2 = l2(t_x);
+  out.unresolved_fraction = unresolved();
   out.cell_size = h;
   out.steps = sim.clock().step;
   out.particles = sim.particles().size();

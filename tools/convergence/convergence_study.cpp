@@ -189,6 +189,12 @@ int main(int argc, char** argv) {
           mms.wall = wall_kind;
           for (const int n : mms_cells) {
             const sv::MmsErrors e = sv::run_manufactured_solution(mms, settings(n, k));
+            // Unresolved kinetic energy share (issue 16; stdout only, the CSV is unchanged)
+            fmt::print(
+                "{:<18} {:<9} {:5d} cells  unresolved/kinetic {:.3g} at t_end, {:.3g} over the "
+                "run\n",
+                name + suffix, shatter::name_of(k), n, e.unresolved_fraction,
+                e.unresolved_fraction_run);
             // Relative to G so that the two amplitudes share one axis.
             report({name + suffix, k, n, e.cell_size, e.displacement_l2 / G, e.wall_s, e.steps,
                     e.particles});

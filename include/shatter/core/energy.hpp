@@ -15,6 +15,12 @@ struct EnergyBudget {
   double outflow = 0.0;        // energy carried away by particles that left through outflow
   double initial = 0.0;        // kinetic + internal + potential at t = 0
   double scale = 0.0;          // largest |kinetic| + |internal| seen: the error's denominator
+  // Step diagnostics (issue 16), not part of the budget and not checkpointed (recomputed every
+  // step): the kinetic energy of the velocities the step's P2G transferred (v^{n-1/2}), and the
+  // part of it the grid does not represent, sum_p m_p |v_p|^2/2 - sum_I |p_I|^2/(2 m_I) with the
+  // lumped P2G momentum and mass (docs/outputs.md). 0 before the first step and in SPH.
+  double transferred_kinetic = 0.0;
+  double unresolved_kinetic = 0.0;
 
   double total() const { return kinetic + internal + potential; }
   // Relative total-energy error: (E - E_0 + removed) / scale.

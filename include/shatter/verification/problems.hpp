@@ -98,6 +98,12 @@ struct MmsErrors {
   // and the largest over all steps.
   double displacement_l2 = 0.0;
   double displacement_l2_max = 0.0;
+  // The unresolved share of the kinetic energy (EnergyBudget::unresolved_kinetic over
+  // transferred_kinetic, issue 16): at t_end, and over the run as the ratio of the two energies'
+  // time integrals (the kinetic energy passes through zero twice a period, where the share of
+  // one step means little).
+  double unresolved_fraction = 0.0;
+  double unresolved_fraction_run = 0.0;
   double cell_size = 0.0;
   double wall_s = 0.0;
   std::uint64_t steps = 0;

@@ -37,7 +37,8 @@ TimeSeriesRow row(std::uint64_t step, double t) {
 TEST(TimeSeries, HeaderNamesEveryQuantityWithItsUnit) {
   const std::string h(timeseries_header());
   for (const char* col : {"time_s", "dt_s", "kinetic_J", "internal_J", "total_J", "energy_error",
-                          "px_kg_m_per_s", "py_kg_m_per_s", "pz_kg_m_per_s", "failure_ratio"}) {
+                          "px_kg_m_per_s", "py_kg_m_per_s", "pz_kg_m_per_s", "failure_ratio",
+                          "unresolved_kinetic_J", "unresolved_kinetic_fraction"}) {
     EXPECT_NE(h.find(col), std::string::npos) << col;
   }
 }
@@ -57,6 +58,23 @@ TEST(TimeSeries, OneRowPerSampleWithTotalAndError) {
   EXPECT_EQ(l[2].substr(0, 3), "10,");
   EXPECT_NE(l[2].find(",3.5,"), std::string::npos) << l[2];
   EXPECT_NE(l[2].find(",0.166666667,"), std::string::npos) << l[2];
+}
+
+// The two columns before wall_s (which stays last: tests/mpi/compare_runs drops it): K_unresolved
+// and its share of the transferred kinetic energy (issue 16); 0.5 of 2.0 J is 0.25 exactly.
+TEST(TimeSeries, UnresolvedKineticAndItsFractionPrecedeTheWallTime) {
+  ScratchDir dir;
+  {
+    TimeSeriesWriter w(dir / "ts.csv");
+    TimeSeriesRow r = row(1, 1e-6);
+    r.energy.transferred_kinetic = 2.0;
+    r.energy.unresolved_kinetic = 0.5;
+    w.write(r);
+  }
+  const auto l = lines(dir / "ts.csv");
+  ASSERT_EQ(l.size(), 2u);
+  EXPECT_NE(l[1].find(",0.5,0.25,"), std::string::npos) << l[1];
+  EXPECT_EQ(l[0].substr(l[0].size() - 7), ",wall_s");
 }
 
 TEST(TimeSeries, ResumeDropsRowsWrittenAfterTheCheckpoint) {
