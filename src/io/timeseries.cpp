@@ -25,12 +25,6 @@ std::ofstream open_for_writing(const std::filesystem::path& file, std::ios::open
   return out;
 }
 
-// K_unresolved / K_transferred (issue 16): in [0, 1], the share of the kinetic energy the step's
-// P2G transferred that the grid does not represent; 0 when nothing moves.
-double unresolved_fraction(const EnergyBudget& e) {
-  return e.transferred_kinetic > 0.0 ? e.unresolved_kinetic / e.transferred_kinetic : 0.0;
-}
-
 }  // namespace
 
 std::string_view timeseries_header() {
@@ -113,7 +107,7 @@ void TimeSeriesWriter::write(const TimeSeriesRow& r) {
       "{:.17g},{:.17g},{:.17g},{:.9g},{:.17g},{:.9g},{:.3f}\n",
       r.step, r.time, r.dt, e.kinetic, e.internal, e.potential, e.total(), e.boundary_work,
       e.outflow, e.error(), r.momentum.x(), r.momentum.y(), r.momentum.z(), r.failure_ratio,
-      e.unresolved_kinetic, unresolved_fraction(e), r.wall);
+      e.unresolved_kinetic, e.unresolved_fraction(), r.wall);
 }
 
 std::array<parallel::ExactSum, 3> momentum_sums(const ParticleStore& store) {

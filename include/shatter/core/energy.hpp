@@ -28,6 +28,10 @@ struct EnergyBudget {
     const double s = std::max(scale, 1e-300);
     return (total() + boundary_work + outflow - initial) / s;
   }
+  // unresolved_kinetic / transferred_kinetic: the step's share in [0, 1]; 0 when nothing moves.
+  double unresolved_fraction() const {
+    return transferred_kinetic > 0.0 ? unresolved_kinetic / transferred_kinetic : 0.0;
+  }
 };
 
 }  // namespace shatter
