@@ -2,8 +2,10 @@
 
 A run directory (written by `shatter run`) holds timeseries.csv, snapshots/snapshot_*.h5 with
 particles.xmf beside them, fragments.csv/.h5/.ss and scene.toml. Every HDF5 dataset shatter writes
-carries a CRC-32 (zlib) of its values in the attribute "crc32"; the readers here verify it and
-raise CorruptSnapshot naming the file and dataset when it differs (docs/outputs.md).
+carries a CRC-32 (zlib) of its values in the attribute "crc32", and the root attributes a reader
+uses (time, step, symmetry_axis, ...) are sealed by "attributes_crc32"; the readers here verify
+both and raise CorruptSnapshot naming the file and the dataset or attribute when one differs or
+cannot be read at all (docs/outputs.md).
 """
 
 import csv
@@ -16,7 +18,7 @@ import h5py
 import numpy as np
 
 __all__ = [
-    "CorruptSnapshot", "verified", "read_snapshot", "read_snapshot_time", "snapshot_names",
+    "CorruptSnapshot", "verified", "verified_attrs", "read_snapshot", "read_snapshot_time", "snapshot_names",
     "snapshots", "snapshot_at", "timeseries", "fragments", "fragment_table", "read_ss",
     "PKDGRAV_UNITS", "stress_tensors", "STRESS_COLUMNS", "BUNDLES", "label_of", "scene",
     "impact_geometry", "model_label", "symmetry_axis", "snapshot_names",
@@ -32,14 +34,68 @@ BUNDLES = {
 
 
 class CorruptSnapshot(ValueError):
-    """A dataset whose values do not match the CRC-32 stored with them."""
+    """A dataset or header attribute whose values do not match the CRC-32 stored with them, or
+    that cannot be read at all."""
+
+
+# The root attributes a reader uses: a sealed snapshot must cover them.
+_USED_ATTRS = ("format", "format_version", "time", "step", "program_version", "symmetry_axis")
+
+
+def _attr_bytes(value):
+    """An attribute's value as the seal covers it (src/io/h5.cpp, seal_attrs): numbers as their
+    native bytes, strings without NUL padding."""
+    if isinstance(value, (bytes, np.bytes_)):
+        return bytes(value).rstrip(b"\0")
+    if isinstance(value, str):
+        return value.encode().rstrip(b"\0")
+    return np.ascontiguousarray(value).tobytes()
+
+
+def verified_attrs(obj, path):
+    """The attributes of `obj` (a file or group) as a dict, checked against the seal
+    "attributes_crc32": CRC-32 over, for "attributes_covered" and each name it lists, the name,
+    a NUL, the value's byte length (uint64 little-endian) and the value. A snapshot that has a
+    format_version must be sealed; older ones are returned unverified."""
+    try:
+        attrs = {k: obj.attrs[k] for k in obj.attrs}
+    except (OSError, KeyError, ValueError) as e:
+        raise CorruptSnapshot(f"{path}: cannot read the attributes of '{obj.name}': {e}") from e
+    if "attributes_crc32" not in attrs or "attributes_covered" not in attrs:
+        if "format_version" in attrs or "attributes_crc32" in attrs or "attributes_covered" in attrs:
+            raise CorruptSnapshot(f"{path}: the attributes of '{obj.name}' have no checksum "
+                                  "(attributes_crc32 missing): corrupt file")
+        return attrs
+    names = ["attributes_covered"] + _attr_bytes(attrs["attributes_covered"]).decode(
+        errors="replace").split()
+    for name in _USED_ATTRS if obj.name == "/" else ():
+        if name not in names:
+            raise CorruptSnapshot(f"{path}: attribute '{name}' of '{obj.name}' is not covered by "
+                                  "the attribute checksum: corrupt file")
+    data = b""
+    for name in names:
+        if name not in attrs:
+            raise CorruptSnapshot(f"{path}: attribute '{name}' of '{obj.name}' is missing: "
+                                  "corrupt file")
+        value = _attr_bytes(attrs[name])
+        data += name.encode() + b"\0" + struct.pack("<Q", len(value)) + value
+    actual, stored = zlib.crc32(data), int(attrs["attributes_crc32"])
+    if actual != stored:
+        raise CorruptSnapshot(f"{path}: the attributes of '{obj.name}' are corrupt: checksum "
+                              f"{actual:08x}, stored {stored:08x}")
+    return attrs
 
 
 def verified(dataset, path):
     """The dataset's values, checked against its "crc32" attribute (zlib CRC-32 of the values as
     stored: native byte order, binary64 or binary32, row-major). Files that declare checksums
-    (root attribute "checksums") must carry one on every dataset; older ones have none."""
-    values = dataset[()]
+    (root attribute "checksums") must carry one on every dataset; older ones have none. A
+    dataset HDF5 cannot decode (a corrupted compressed chunk) raises CorruptSnapshot too."""
+    try:
+        values = dataset[()]
+    except (OSError, ValueError) as e:
+        raise CorruptSnapshot(f"{path}: dataset '{dataset.name}' cannot be read (corrupt "
+                              f"file?): {e}") from e
     stored = dataset.attrs.get("crc32")
     if stored is None:
         if "checksums" in dataset.file.attrs:
@@ -61,7 +117,8 @@ def read_snapshot(path, bundles=False):
     (position, velocity, stress) are split into their columns (x, y, z, vx, ..., sxx, ...) as
     float64; with bundles=True the 2-d arrays are kept as well under their own names. Raises
     CorruptSnapshot when a dataset does not match its checksum."""
-    with h5py.File(path, "r") as f:
+    with _open(path) as f:
+        attrs = verified_attrs(f, path)
         cols = {}
         for k in f["particles"]:
             values = verified(f["particles"][k], path)
@@ -72,13 +129,24 @@ def read_snapshot(path, bundles=False):
                     cols[k] = values
             else:
                 cols[k] = values.astype(np.float64) if values.dtype.kind == "f" else values
-        axis = int(f.attrs.get("symmetry_axis", 0)) - 1
-        return float(f.attrs["time"]), cols, axis
+        axis = int(attrs.get("symmetry_axis", 0)) - 1
+        return float(attrs["time"]), cols, axis
+
+
+def _open(path):
+    """The snapshot open for reading; a file HDF5 cannot open raises CorruptSnapshot."""
+    try:
+        return h5py.File(path, "r")
+    except OSError as e:
+        if not os.path.exists(path):
+            raise
+        raise CorruptSnapshot(f"{path}: not a readable HDF5 file (truncated or corrupt?): "
+                              f"{e}") from e
 
 
 def snapshot_names(path):
     """(body names, material names) a snapshot stores (empty lists for older snapshots)."""
-    with h5py.File(path, "r") as f:
+    with _open(path) as f:
         if "names" not in f:
             return [], []
         g = f["names"]
@@ -90,8 +158,8 @@ def symmetry_axis(run_dir):
     files = snapshots(run_dir)
     if not files:
         return -1
-    with h5py.File(files[0], "r") as f:
-        return int(f.attrs.get("symmetry_axis", 0)) - 1
+    with _open(files[0]) as f:
+        return int(verified_attrs(f, files[0]).get("symmetry_axis", 0)) - 1
 
 
 def model_label(axis):
@@ -104,8 +172,8 @@ def snapshots(run_dir):
 
 
 def read_snapshot_time(path):
-    with h5py.File(path, "r") as f:
-        return float(f.attrs["time"])
+    with _open(path) as f:
+        return float(verified_attrs(f, path)["time"])
 
 
 def snapshot_at(run_dir, t):

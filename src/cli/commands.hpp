@@ -24,6 +24,8 @@ struct RunOptions {
   std::optional<std::filesystem::path> out;  // run directory (default: the scene's)
   int threads = 0;                           // 0 = all cores
   bool overwrite = false;                    // replace a previous run in the directory
+  bool take_lock = false;  // take over a stale lock that names another host (io::RunLock)
+  bool accept_timeseries_gap = false;  // resume: continue a time series that lost rows
   bool check = false;  // run: check the scene and set the run up, then stop (nothing written)
   std::vector<std::string> sets;  // --set key=value
 };

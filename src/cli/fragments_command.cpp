@@ -17,6 +17,12 @@ int fragments_command(const std::filesystem::path& snapshot, const FragmentOptio
     spdlog::error("{}", e.what());
     return kBadInput;
   }
+  if (!s.header.checksummed) {
+    spdlog::warn(
+        "{} was written before snapshot headers were checksummed: its time, step and symmetry "
+        "axis are not verified (its datasets are)",
+        snapshot.string());
+  }
   FragmentSearchSpec spec;
   if (options.threshold) {
     if (!(*options.threshold > 0.0 && *options.threshold <= 1.0)) {

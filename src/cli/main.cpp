@@ -11,6 +11,7 @@
 #include <fmt/ranges.h>
 
 #include "commands.hpp"
+#include "shatter/io/atomic_file.hpp"
 #include "shatter/io/suggest.hpp"
 #include "shatter/parallel/comm.hpp"
 
@@ -86,6 +87,8 @@ int shatter_main(int argc, char** argv) {
         ->take_all();
     cmd->add_flag("--quiet", quiet, "only warnings and errors");
     cmd->add_option("--log", log_file, "also write the log to this file");
+    cmd->add_flag("--take-lock", run_options.take_lock,
+                  "take over the run directory's lock left by a run on another host that ended");
   };
 
   std::string scene_file;
@@ -121,6 +124,9 @@ int shatter_main(int argc, char** argv) {
   resume->add_option("CHECKPOINT", checkpoint, "checkpoint file (run directory/checkpoint.h5)")
       ->required();
   add_run_flags(resume);
+  resume->add_flag("--accept-timeseries-gap", run_options.accept_timeseries_gap,
+                   "continue a timeseries.csv that lost rows the checkpoint covers (deleted, "
+                   "emptied or truncated), leaving the gap");
 
   std::string snapshot;
   FragmentOptions fragment_options;
@@ -234,6 +240,7 @@ int shatter_main(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
+  shatter::io::skip_hdf5_shutdown_at_exit();
   shatter::parallel::init(&argc, &argv);
   const int code = shatter_main(argc, argv);
   shatter::parallel::finalize();

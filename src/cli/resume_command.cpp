@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -16,6 +17,19 @@ namespace {
 // the output settings may be overridden.
 bool allowed_on_resume(const std::string& assignment) {
   return assignment.rfind("output.", 0) == 0 || assignment.rfind("solver.end_time=", 0) == 0;
+}
+
+// The step of the last time-series row the checkpoint covers: the rows the run wrote on its own
+// cadence (the scene as it ran, before this resume's --set), plus the last row of a run that
+// ended there. A row a stop signal wrote at another step is not one an uninterrupted run writes.
+std::uint64_t rows_covered(const io::Checkpoint& c, const std::filesystem::path& file,
+                           bool at_end) {
+  const std::uint64_t step = c.state.clock.step;
+  if (at_end) return step;
+  const scene::Scene ran = scene::parse_scene(c.state.scene_text, file.string() + " (scene)", {});
+  const auto every =
+      static_cast<std::uint64_t>(std::max<std::int64_t>(1, ran.output.timeseries_every));
+  return step / every * every;
 }
 
 }  // namespace
@@ -80,6 +94,15 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
     spdlog::error("{}", bad);
     return kBadInput;
   }
+  // Held to the end of the run: two resumes of one checkpoint would interleave the time series.
+  std::unique_ptr<io::RunLock> lock;
+  try {
+    lock = lock_run_directory(out, options.take_lock);
+  } catch (const io::RunLocked& e) {
+    spdlog::error("{}", e.what());
+    if (parallel::world().distributed()) parallel::world().abort(kBadInput);
+    return kBadInput;
+  }
 
   std::unique_ptr<Solver> sim;
   try {
@@ -110,6 +133,7 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
   spec.resumed = true;
   spec.cursor = c.state.cursor;
   spec.dt_first = c.state.dt_first;
+  spec.rows = {rows_covered(c, file, at_end), options.accept_timeseries_gap};
   if (!options.sets.empty()) {
     // The output cadence may have changed: the next multiples of the cadences after now.
     const double t = c.state.clock.time;

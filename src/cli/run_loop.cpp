@@ -101,7 +101,7 @@ class Runner {
     // alone writes the files, which look like a single process's (rows sorted by particle id).
     if (root_) std::filesystem::create_directories(snapshot_dir(spec_.out));
     if (spec_.resumed) {
-      if (root_) timeseries_.emplace(spec_.out / "timeseries.csv", sim_.time());
+      if (root_ && !resume_timeseries()) return kBadInput;
       std::vector<std::filesystem::path> snaps;
       for (const auto& e : std::filesystem::directory_iterator(snapshot_dir(spec_.out))) {
         if (e.path().extension() == ".h5" && e.path().stem().string().rfind("snapshot_", 0) == 0) {
@@ -177,6 +177,20 @@ class Runner {
                    scene_.output.checkpoint_every);
       }
     }
+  }
+
+  // The time series continued from the checkpoint's last row; false (after saying why) when
+  // rows it covers are lost and the spec does not accept the gap.
+  bool resume_timeseries() {
+    try {
+      timeseries_.emplace(spec_.out / "timeseries.csv", spec_.rows);
+    } catch (const io::TimeSeriesGap& e) {
+      spdlog::error("{}", e.what());
+      if (dist_) comm_.abort(kBadInput);
+      return false;
+    }
+    if (!timeseries_->note().empty()) spdlog::warn("{}", timeseries_->note());
+    return true;
   }
 
   void finish() {
@@ -459,6 +473,17 @@ std::string unusable_run_directory(const std::filesystem::path& out, const std::
                        std::strerror(errno));
   }
   return {};
+}
+
+std::unique_ptr<io::RunLock> lock_run_directory(const std::filesystem::path& out, bool take_over) {
+  if (parallel::world().rank() != 0) return nullptr;
+  std::string stale;
+  auto lock = std::make_unique<io::RunLock>(out, take_over, &stale);
+  if (!stale.empty()) {
+    spdlog::warn("{}: took over the lock of {}, which ended without releasing it (killed?)",
+                 out.string(), stale);
+  }
+  return lock;
 }
 
 std::filesystem::path snapshot_dir(const std::filesystem::path& out) {

@@ -5,10 +5,13 @@
 
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "shatter/core/solver.hpp"
 #include "shatter/io/checkpoint.hpp"
+#include "shatter/io/run_lock.hpp"
+#include "shatter/io/timeseries.hpp"
 #include "shatter/scene/scene.hpp"
 
 namespace shatter::cli {
@@ -20,6 +23,7 @@ struct RunSpec {
   bool resumed = false;
   io::OutputCursor cursor;  // where the schedule stands (resume)
   double dt_first = 0.0;    // first step's dt of the run (resume; 0 = this state's)
+  io::ResumeRows rows;      // the time-series rows the checkpoint covers (resume)
   double internal_next = std::numeric_limits<double>::quiet_NaN();  // see io::RunState
 };
 
@@ -30,6 +34,11 @@ int run_loop(Solver& sim, const RunSpec& spec);
 // or write in), naming `what` (e.g. "--out" or "output.directory"); empty when it can. Checked
 // before anything is written.
 std::string unusable_run_directory(const std::filesystem::path& out, const std::string& what);
+
+// Locks the run directory `out` for this process (io::RunLock; rank 0 alone holds it). Null on
+// the other ranks; throws io::RunLocked when another process holds it, after reporting a stale
+// lock it took over.
+std::unique_ptr<io::RunLock> lock_run_directory(const std::filesystem::path& out, bool take_over);
 
 // Paths inside a run directory.
 std::filesystem::path snapshot_dir(const std::filesystem::path& out);

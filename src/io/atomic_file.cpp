@@ -39,6 +39,8 @@ void commit(const std::filesystem::path& temporary, const std::filesystem::path&
   std::error_code ec;
   std::filesystem::rename(temporary, target, ec);
   if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);  // no temporary file left behind
     throw std::runtime_error(fmt::format("cannot rename {} to {}: {}", temporary.string(),
                                          target.string(), ec.message()));
   }

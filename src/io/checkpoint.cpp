@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -17,7 +18,11 @@ namespace shatter::io {
 namespace {
 
 constexpr std::string_view kFormat = "shatter checkpoint";
-constexpr std::uint64_t kFormatVersion = 2;  // 2: checksums, internal_next, dt_first
+// 2: checksums, internal_next, dt_first. 3: the root attributes (format_version included) are
+// sealed (h5::seal_attrs), so a changed format_version cannot switch the verification off.
+constexpr std::uint64_t kFormatVersion = 3;
+const std::vector<std::string> kRootAttrs = {"format", "format_version", "program_version",
+                                             "checksums", "state_crc32"};
 
 // The energy budget's members, written and read by one table so the two cannot drift apart.
 constexpr std::pair<const char*, double EnergyBudget::*> kEnergyTerms[] = {
@@ -107,6 +112,26 @@ void copy_columns(ParticleStore& live, const ParticleStore& saved, std::size_t c
   }
 }
 
+// The format version, trusted only when the root attributes' seal holds (format 3) or the file
+// carries none of what a later format adds: a format-2 file whose version reads 1 would
+// otherwise be resumed without verification.
+std::uint64_t checked_version(hid_t f, const std::filesystem::path& file) {
+  const bool sealed = h5::verify_attrs(f, kRootAttrs);
+  const auto version = h5::get_attr_u64(f, "format_version");
+  if (sealed ? version != kFormatVersion : version >= kFormatVersion || version == 0) {
+    throw std::runtime_error(fmt::format(
+        "{}: checkpoint format {}{} (this shatter reads 1 to {}): corrupt file?", file.string(),
+        version, sealed ? "" : " without its attribute checksum", kFormatVersion));
+  }
+  if (version == 1 && (h5::has_attr(f, "state_crc32") || h5::has_attr(f, "checksums"))) {
+    throw std::runtime_error(fmt::format(
+        "{}: format_version says 1 but the file carries the checksums of format 2 or later: "
+        "corrupt file",
+        file.string()));
+  }
+  return version;
+}
+
 }  // namespace
 
 void write_checkpoint(const std::filesystem::path& file, const ParticleStore& store,
@@ -134,6 +159,7 @@ void write_checkpoint(const std::filesystem::path& file, const ParticleStore& st
     }
     const auto bytes = state_bytes(state);
     h5::set_attr(f.get(), "state_crc32", h5::checksum(bytes.data(), bytes.size()));
+    h5::seal_attrs(f.get(), kRootAttrs);
     if (progress) progress("state");
     write_particles(f.get(), store, all_columns(store), progress);
     if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
@@ -153,11 +179,7 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   if (!h5::has_attr(f.get(), "format") || h5::get_attr_string(f.get(), "format") != kFormat) {
     throw std::runtime_error(fmt::format("{} is not a shatter checkpoint", file.string()));
   }
-  const auto version = h5::get_attr_u64(f.get(), "format_version");
-  if (version != kFormatVersion && version != 1) {
-    throw std::runtime_error(fmt::format("{}: checkpoint format {} (this shatter reads 1 and {})",
-                                         file.string(), version, kFormatVersion));
-  }
+  const auto version = checked_version(f.get(), file);
   // Format 1 predates checksums: read as before, nothing to verify.
   const auto verify = version >= 2 ? h5::Verify::required : h5::Verify::if_present;
   Checkpoint c;

@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "shatter/io/atomic_file.hpp"
+
 namespace shatter::io::h5 {
 namespace {
 
@@ -428,6 +430,97 @@ bool has_attr(hid_t obj, const std::string& name) {
   return H5Aexists(obj, name.c_str()) > 0;
 }
 
+namespace {
+
+constexpr const char* kCoveredAttr = "attributes_covered";
+constexpr const char* kSealAttr = "attributes_crc32";
+
+// An attribute's value as the seal covers it: numbers as native values, strings without their
+// NUL padding (as h5py returns them).
+std::string attr_bytes(hid_t obj, const std::string& name) {
+  Handle a = open_attr(obj, name);
+  Handle type{check(H5Aget_type(a.get()), obj, "get type of attribute", name), H5Tclose};
+  Handle space{check(H5Aget_space(a.get()), obj, "get dataspace of attribute", name), H5Sclose};
+  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  if (n < 0) fail(obj, "size attribute", name);
+  const auto count = static_cast<std::size_t>(n);
+  if (H5Tget_class(type.get()) == H5T_STRING) {
+    if (H5Tis_variable_str(type.get()) > 0) fail(obj, "read fixed-length attribute", name);
+    std::string out(H5Tget_size(type.get()) * count, '\0');
+    check(H5Aread(a.get(), type.get(), out.data()), obj, "read attribute", name);
+    while (!out.empty() && out.back() == '\0') out.pop_back();
+    return out;
+  }
+  Handle native{check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), obj, "type attribute", name),
+                H5Tclose};
+  std::string out(H5Tget_size(native.get()) * count, '\0');
+  check(H5Aread(a.get(), native.get(), out.data()), obj, "read attribute", name);
+  return out;
+}
+
+std::uint64_t seal_of(hid_t obj, const std::vector<std::string>& names) {
+  std::string bytes;
+  for (const std::string& name : names) {
+    const std::string value = attr_bytes(obj, name);
+    const std::uint64_t size = value.size();  // little-endian on every platform we build for
+    bytes += name;
+    bytes.push_back('\0');
+    bytes.append(reinterpret_cast<const char*>(&size), sizeof(size));
+    bytes += value;
+  }
+  return checksum(bytes.data(), bytes.size());
+}
+
+}  // namespace
+
+void seal_attrs(hid_t obj, const std::vector<std::string>& names) {
+  std::string covered;
+  for (const std::string& name : names) covered += (covered.empty() ? "" : " ") + name;
+  set_attr(obj, kCoveredAttr, std::string_view(covered));
+  std::vector<std::string> all{kCoveredAttr};
+  all.insert(all.end(), names.begin(), names.end());
+  set_attr(obj, kSealAttr, seal_of(obj, all));
+}
+
+bool verify_attrs(hid_t obj, const std::vector<std::string>& required) {
+  const std::string where = object_path(obj, "/");
+  const bool has_seal = has_attr(obj, kSealAttr), has_list = has_attr(obj, kCoveredAttr);
+  if (!has_seal && !has_list) return false;
+  if (!has_seal || !has_list) {
+    throw std::runtime_error(
+        fmt::format("{}: the attributes of '{}' have a broken checksum "
+                    "(attribute {} missing): corrupt file",
+                    file_name(obj), where, has_seal ? kCoveredAttr : kSealAttr));
+  }
+  std::vector<std::string> all{kCoveredAttr};
+  const std::string covered = get_attr_string(obj, kCoveredAttr);
+  for (std::size_t pos = 0; pos < covered.size();) {
+    const auto space = std::min(covered.find(' ', pos), covered.size());
+    if (space > pos) all.push_back(covered.substr(pos, space - pos));
+    pos = space + 1;
+  }
+  for (const std::string& name : required) {
+    if (std::find(all.begin(), all.end(), name) == all.end()) {
+      throw std::runtime_error(fmt::format(
+          "{}: attribute '{}' of '{}' is not covered by the attribute checksum: corrupt file",
+          file_name(obj), name, where));
+    }
+  }
+  for (const std::string& name : all) {
+    if (!has_attr(obj, name)) {
+      throw std::runtime_error(fmt::format("{}: attribute '{}' of '{}' is missing: corrupt file",
+                                           file_name(obj), name, where));
+    }
+  }
+  const std::uint64_t stored = get_attr_u64(obj, kSealAttr), actual = seal_of(obj, all);
+  if (stored != actual) {
+    throw std::runtime_error(
+        fmt::format("{}: the attributes of '{}' ({}) are corrupt: checksum {:08x}, stored {:08x}",
+                    file_name(obj), where, covered, actual, stored));
+  }
+  return true;
+}
+
 void write_text(hid_t parent, const std::string& name, std::string_view text) {
   Handle type{check(H5Tcopy(H5T_C_S1), parent, "copy string type for", name), H5Tclose};
   check(H5Tset_size(type.get(), std::max<std::size_t>(text.size(), 1)), parent, "size", name);
@@ -468,3 +561,11 @@ std::string file_name(hid_t obj) {
 }
 
 }  // namespace shatter::io::h5
+
+namespace shatter::io {
+
+void skip_hdf5_shutdown_at_exit() {
+  H5dont_atexit();
+}
+
+}  // namespace shatter::io

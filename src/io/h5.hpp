@@ -111,6 +111,16 @@ std::uint64_t get_attr_u64(hid_t obj, const std::string& name);
 std::string get_attr_string(hid_t obj, const std::string& name);
 bool has_attr(hid_t obj, const std::string& name);
 
+// Integrity of attributes (the header of a file): seal_attrs stores, on `obj`, the attribute
+// "attributes_covered" (the names, space separated) and "attributes_crc32", the CRC-32 (zlib) of
+// each covered attribute in turn (the covered list first) as: its name, a NUL, its value's byte
+// length as a little-endian uint64, its value (numbers as native values, strings without their
+// NUL padding). python/shatterpy computes the same bytes.
+void seal_attrs(hid_t obj, const std::vector<std::string>& names);
+// Verifies the seal: false when `obj` has none (older files); throws naming the file when the
+// checksum differs, when a covered attribute is missing, or when one of `required` is not covered.
+bool verify_attrs(hid_t obj, const std::vector<std::string>& required);
+
 // Text stored as a scalar fixed-length string dataset (no 64 KiB attribute limit).
 void write_text(hid_t parent, const std::string& name, std::string_view text);
 std::string read_text(hid_t parent, const std::string& name, Verify verify = Verify::if_present);

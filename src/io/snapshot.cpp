@@ -1,6 +1,8 @@
 #include "shatter/io/snapshot.hpp"
 
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -12,12 +14,27 @@ namespace shatter::io {
 namespace {
 
 constexpr std::string_view kFormat = "shatter snapshot";
+// 2: the root attributes are sealed (h5::seal_attrs). Snapshots without format_version are
+// older ones: their datasets are checksummed, their header is not.
+constexpr std::uint64_t kFormatVersion = 2;
+// The header attributes the seal covers; the readers use the first six.
+const std::vector<std::string> kHeaderAttrs = {
+    "format",        "format_version", "time",       "step",      "program_version",
+    "symmetry_axis", "units",          "time_units", "checksums", "precision"};
+const std::vector<std::string> kUsedAttrs(kHeaderAttrs.begin(), kHeaderAttrs.begin() + 6);
 
 SnapshotHeader read_header(hid_t file, const std::filesystem::path& path) {
   if (!h5::has_attr(file, "format") || h5::get_attr_string(file, "format") != kFormat) {
     throw std::runtime_error(fmt::format("{} is not a shatter snapshot", path.string()));
   }
   SnapshotHeader h;
+  h.checksummed = h5::verify_attrs(file, kUsedAttrs);
+  if (!h.checksummed && h5::has_attr(file, "format_version")) {
+    throw std::runtime_error(fmt::format(
+        "{}: the snapshot's header attributes have no checksum (attributes_crc32 missing): "
+        "corrupt file",
+        path.string()));
+  }
   h.time = h5::get_attr_double(file, "time");
   h.step = h5::get_attr_u64(file, "step");
   h.program_version = h5::get_attr_string(file, "program_version");
@@ -32,9 +49,11 @@ void write_snapshot(const std::filesystem::path& file, const ParticleStore& stor
                     const SnapshotOptions& options) {
   h5::QuietErrors quiet;
   const auto tmp = temporary_for(file);
-  {
+  // A failed write (a full disk) leaves no temporary file behind.
+  try {
     h5::Handle f = h5::create_file(tmp);
     h5::set_attr(f.get(), "format", kFormat);
+    h5::set_attr(f.get(), "format_version", kFormatVersion);
     h5::set_attr(f.get(), "time", header.time);
     h5::set_attr(f.get(), "time_units", std::string_view("s"));
     h5::set_attr(f.get(), "step", header.step);
@@ -51,11 +70,16 @@ void write_snapshot(const std::filesystem::path& file, const ParticleStore& stor
     }
     h5::set_attr(f.get(), "precision",
                  std::string_view(options.single_precision ? "binary32" : "binary64"));
+    h5::seal_attrs(f.get(), kHeaderAttrs);
     const ParticleLayout layout{true, {true, options.single_precision}};
     write_particles(f.get(), store, columns, {}, layout);
     if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
       throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
     }
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
   }
   commit(tmp, file);
 }

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <charconv>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -36,7 +38,35 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file)
   out_ << kHeader << '\n';
 }
 
-TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, double resume_after)
+namespace {
+
+// Byte length of the complete rows (newline-terminated, every column, a step number) with
+// steps up to and including `through`, after the header; and the last such row's step.
+std::pair<std::size_t, std::optional<std::uint64_t>> rows_through(const std::string& text,
+                                                                  std::size_t from,
+                                                                  std::uint64_t through) {
+  const auto columns = static_cast<std::size_t>(std::count(kHeader.begin(), kHeader.end(), ','));
+  std::size_t keep = from;
+  std::optional<std::uint64_t> last;
+  for (std::size_t pos = keep; pos < text.size();) {
+    const auto nl = text.find('\n', pos);
+    if (nl == std::string::npos) break;
+    const std::string_view line(text.data() + pos, nl - pos);
+    if (static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) != columns) break;
+    std::uint64_t step = 0;
+    const auto comma = line.find(',');
+    const auto [end, ec] = std::from_chars(line.data(), line.data() + comma, step);
+    if (ec != std::errc() || end != line.data() + comma || step > through) break;
+    last = step;
+    keep = nl + 1;
+    pos = nl + 1;
+  }
+  return {keep, last};
+}
+
+}  // namespace
+
+TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume)
     : file_(file) {
   std::string text;
   if (std::ifstream in(file, std::ios::binary); in) {
@@ -45,37 +75,38 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, double res
     text = ss.str();
   }
   const std::string header = std::string(kHeader) + '\n';
-  if (text.rfind(header, 0) != 0) {
-    if (header.rfind(text, 0) != 0) {
-      // Not this program's time series (another header): refuse rather than destroy its rows.
-      throw std::runtime_error(fmt::format(
-          "{} does not start with the time-series header of this shatter; move it away to "
-          "resume",
-          file.string()));
+  const bool has_header = text.rfind(header, 0) == 0;
+  if (!has_header && header.rfind(text, 0) != 0) {
+    // Not this program's time series (another header): refuse rather than destroy its rows.
+    throw std::runtime_error(fmt::format(
+        "{} does not start with the time-series header of this shatter; move it away to resume",
+        file.string()));
+  }
+  // Keep complete rows up to and including the checkpoint's last row; cut the file after it. A
+  // row the dead run wrote after that, or tore while writing, goes; the resumed run writes it
+  // again, byte for byte.
+  const auto [keep, last] =
+      has_header ? rows_through(text, header.size(), resume.through_step)
+                 : std::pair<std::size_t, std::optional<std::uint64_t>>{0, std::nullopt};
+  if (last != resume.through_step) {
+    const std::string lost =
+        fmt::format("{} {}, the checkpoint covers rows to step {}", file.string(),
+                    last ? fmt::format("ends at step {}", *last)
+                         : std::string(text.empty() ? "is missing or empty" : "has no rows"),
+                    resume.through_step);
+    if (!resume.accept_gap) {
+      throw TimeSeriesGap(lost +
+                          ": its earlier rows are lost (restore the file, or pass "
+                          "--accept-timeseries-gap to continue it with the gap)");
     }
+    note_ = lost + ": continuing it with those rows missing";
+  }
+  if (!has_header) {
     // Missing, or torn before the header was complete: start it again.
     out_ = open_for_writing(file, std::ios::trunc);
     out_ << header;
     sync();
     return;
-  }
-  // Keep complete rows (newline-terminated, every column, a number for the time) up to and
-  // including `resume_after`; cut the file after the last one. A row the dead run wrote after the
-  // checkpoint, or tore while writing, goes; the resumed run writes it again, byte for byte.
-  const auto columns = static_cast<std::size_t>(std::count(kHeader.begin(), kHeader.end(), ','));
-  std::size_t keep = header.size();
-  for (std::size_t pos = keep; pos < text.size();) {
-    const auto nl = text.find('\n', pos);
-    if (nl == std::string::npos) break;
-    const std::string_view line(text.data() + pos, nl - pos);
-    if (static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) != columns) break;
-    const auto a = line.find(',');
-    const auto b = line.find(',', a + 1);
-    double t = 0.0;
-    const auto [end, ec] = std::from_chars(line.data() + a + 1, line.data() + b, t);
-    if (ec != std::errc() || end != line.data() + b || t > resume_after) break;
-    keep = nl + 1;
-    pos = nl + 1;
   }
   if (keep < text.size()) {
     // Cut in place (one truncate), never rewritten: a crash here loses no kept row.

@@ -20,4 +20,10 @@ void sync_file(const std::filesystem::path& file);
 // Writes `text` to `target` through a temporary file.
 void write_text_atomically(const std::filesystem::path& target, std::string_view text);
 
+// Call first in main, before any HDF5 call: HDF5 is not shut down at exit. After a write that
+// failed for lack of space, H5Fclose fails and leaves the file half closed; HDF5's shutdown at
+// exit then closed it again and crashed (a segmentation fault after the error message, issue
+// 33). Every file shatter opens is closed by its owner, so there is nothing for it to do.
+void skip_hdf5_shutdown_at_exit();
+
 }  // namespace shatter::io

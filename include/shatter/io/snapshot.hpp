@@ -25,6 +25,9 @@ struct SnapshotHeader {
   // Axis of the symmetry plane through the origin (0, 1, 2; -1 = none): the file holds the
   // positive half, post-processing mirrors it.
   int symmetry_axis = -1;
+  // Read: false for a snapshot written before the header was checksummed (format 1, read with a
+  // warning); a newer snapshot whose header does not match its checksum is refused.
+  bool checksummed = true;
 };
 
 // What a snapshot stores besides the header and the columns, and how.

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -29,14 +31,35 @@ struct TimeSeriesRow {
 // The CSV header line (without newline).
 std::string_view timeseries_header();
 
+// How a resumed run takes over the time series of the run it continues.
+struct ResumeRows {
+  // The step of the last row the checkpoint covers: the row an uninterrupted run writes last at
+  // or before the checkpoint's step (a multiple of timeseries_every; the checkpoint's own step
+  // only at the end of a run). Later rows, such as the row a stop signal writes, go.
+  std::uint64_t through_step = 0;
+  // A file whose rows end before `through_step` (deleted, emptied or truncated): false throws
+  // TimeSeriesGap; true keeps what there is (starting the file again if need be) and appends,
+  // leaving the gap (note() says so).
+  bool accept_gap = false;
+};
+
+// The time series lost rows the checkpoint covers.
+struct TimeSeriesGap : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 class TimeSeriesWriter {
  public:
-  // Starts a new file. With `resume_after`, keeps the complete rows of an existing file up to
-  // and including that time and cuts the file after them (rows written after the checkpoint by a
+  // Starts a new file.
+  explicit TimeSeriesWriter(const std::filesystem::path& file);
+  // Resumes: keeps the complete rows of an existing file up to and including
+  // `resume.through_step` and cuts the file after them (rows written after the checkpoint by a
   // run that then died, or a row torn by the crash, are dropped; the resumed run writes them
   // again), then appends.
-  explicit TimeSeriesWriter(const std::filesystem::path& file);
-  TimeSeriesWriter(const std::filesystem::path& file, double resume_after);
+  TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume);
+
+  // What a resume accepted (the rows missing), empty otherwise.
+  const std::string& note() const { return note_; }
 
   void write(const TimeSeriesRow& row);
   // Throws when a write failed (disk full, ...).
@@ -47,6 +70,7 @@ class TimeSeriesWriter {
  private:
   std::filesystem::path file_;
   std::ofstream out_;
+  std::string note_;
 };
 
 // Sum of m v over all particles (kg m/s).

@@ -85,7 +85,7 @@ TEST(TimeSeries, ResumeDropsRowsWrittenAfterTheCheckpoint) {
   }
   std::ofstream(dir / "ts.csv", std::ios::app) << "5,0.0000";  // torn line from a crash
   {
-    TimeSeriesWriter w(dir / "ts.csv", 2e-6);
+    TimeSeriesWriter w(dir / "ts.csv", ResumeRows{2});
     w.write(row(3, 3e-6));
   }
   const auto l = lines(dir / "ts.csv");
@@ -105,21 +105,21 @@ TEST(TimeSeries, ResumeDropsRowsThatAreNotComplete) {
       for (int k = 0; k < 3; ++k) w.write(row(static_cast<std::uint64_t>(k), 1e-6 * k));
     }
     std::ofstream(dir / "ts.csv", std::ios::app) << torn;
-    { TimeSeriesWriter w(dir / "ts.csv", 5e-6); }
+    { TimeSeriesWriter w(dir / "ts.csv", ResumeRows{2}); }
     const auto l = lines(dir / "ts.csv");
     ASSERT_EQ(l.size(), 4u) << torn;  // header and steps 0 1 2
     EXPECT_EQ(l[3].substr(0, 2), "2,");
   }
 }
 
-TEST(TimeSeries, ResumeKeepsTheRowAtTheCheckpointTimeAndIsByteExact) {
+TEST(TimeSeries, ResumeKeepsTheRowAtTheCheckpointStepAndIsByteExact) {
   ScratchDir dir;
   {
     TimeSeriesWriter w(dir / "ts.csv");
     for (int k = 0; k < 4; ++k) w.write(row(static_cast<std::uint64_t>(k), 1e-6 * k / 3.0));
   }
   {
-    TimeSeriesWriter w(dir / "ts.csv", 1e-6 * 2 / 3.0);  // the exact double of row 2
+    TimeSeriesWriter w(dir / "ts.csv", ResumeRows{2});
     w.write(row(3, 1e-6));
     w.sync();
   }
@@ -133,8 +133,61 @@ TEST(TimeSeries, ResumeRefusesAFileWithAnotherHeader) {
   // Rows of a file this program did not write are not silently thrown away.
   ScratchDir dir;
   std::ofstream(dir / "ts.csv") << "a,b,c\n1,2,3\n";
-  EXPECT_THROW(TimeSeriesWriter(dir / "ts.csv", 1.0), std::runtime_error);
+  EXPECT_THROW(TimeSeriesWriter(dir / "ts.csv", ResumeRows{1}), std::runtime_error);
   EXPECT_EQ(lines(dir / "ts.csv").size(), 2u);
+}
+
+void write_rows(const std::filesystem::path& file, int count) {
+  TimeSeriesWriter w(file);
+  for (int k = 0; k < count; ++k) w.write(row(static_cast<std::uint64_t>(k), 1e-6 * k));
+}
+
+TEST(TimeSeries, ResumeDropsTheRowAStopWroteAfterTheLastCoveredStep) {
+  // Issue 33 item 5: a stop at step 7 with timeseries_every = 5 wrote rows 0, 5 and 7; the
+  // checkpoint covers rows to step 5, so the row of step 7 goes (it was kept by its time).
+  ScratchDir dir;
+  {
+    TimeSeriesWriter w(dir / "ts.csv");
+    for (const std::uint64_t k : {0, 5, 7}) w.write(row(k, 1e-7 * static_cast<double>(k)));
+  }
+  { TimeSeriesWriter w(dir / "ts.csv", ResumeRows{5}); }
+  const auto l = lines(dir / "ts.csv");
+  ASSERT_EQ(l.size(), 3u);
+  EXPECT_EQ(l[2].substr(0, 2), "5,");
+}
+
+TEST(TimeSeries, ResumeRefusesATimeSeriesShorterThanTheCheckpoint) {
+  // Issue 33 item 6: deleted, emptied or truncated before a resume; was accepted silently.
+  for (const std::string how : {"deleted", "emptied", "header only", "truncated"}) {
+    ScratchDir dir;
+    write_rows(dir / "ts.csv", 5);
+    if (how == "deleted") std::filesystem::remove(dir / "ts.csv");
+    if (how == "emptied") std::filesystem::resize_file(dir / "ts.csv", 0);
+    if (how == "header only") {
+      std::filesystem::resize_file(dir / "ts.csv", timeseries_header().size() + 1);
+    }
+    if (how == "truncated") {
+      const auto l = lines(dir / "ts.csv");
+      std::filesystem::resize_file(dir / "ts.csv",
+                                   l[0].size() + l[1].size() + l[2].size() + 3);  // rows 0, 1
+    }
+    const auto before = std::filesystem::exists(dir / "ts.csv")
+                            ? std::filesystem::file_size(dir / "ts.csv")
+                            : std::uintmax_t{0};
+    try {
+      TimeSeriesWriter w(dir / "ts.csv", ResumeRows{4});
+      ADD_FAILURE() << how << ": accepted";
+    } catch (const TimeSeriesGap& e) {
+      EXPECT_NE(std::string(e.what()).find("step 4"), std::string::npos) << e.what();
+    }
+    const auto after = std::filesystem::exists(dir / "ts.csv")
+                           ? std::filesystem::file_size(dir / "ts.csv")
+                           : std::uintmax_t{0};
+    EXPECT_EQ(before, after) << how << ": a refused resume changed the file";
+    // Accepted on request, saying so; the kept rows stay.
+    TimeSeriesWriter w(dir / "ts.csv", ResumeRows{4, true});
+    EXPECT_NE(w.note().find("missing"), std::string::npos) << how;
+  }
 }
 
 TEST(TimeSeries, MomentumIsTheMassWeightedVelocitySum) {
