@@ -316,7 +316,24 @@ MeshSolid::MeshSolid(TriangleMesh mesh) : mesh_(std::move(mesh)) {
 }
 
 bool MeshSolid::contains(const Vec3& p) const {
-  if ((p.array() < lo_.array()).any() || (p.array() > hi_.array()).any()) return false;
+  return winding(p) != 0;
+}
+
+std::optional<Vec3> MeshSolid::find_overlap(int n) const {
+  const Vec3 step = (hi_ - lo_) / n;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const Vec3 p = lo_ + step.cwiseProduct(Vec3(i + 0.5, j + 0.5, k + 0.5));
+        if (std::abs(winding(p)) > 1) return p;
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+int MeshSolid::winding(const Vec3& p) const {
+  if ((p.array() < lo_.array()).any() || (p.array() > hi_.array()).any()) return 0;
   const int i = std::clamp(static_cast<int>(std::floor((p.x() - lo_.x()) / bin_x_)), 0, nx_ - 1);
   const int j = std::clamp(static_cast<int>(std::floor((p.y() - lo_.y()) / bin_y_)), 0, ny_ - 1);
   int crossings = 0;
@@ -327,7 +344,9 @@ bool MeshSolid::contains(const Vec3& p) const {
     const double area = cross2(v[1]->x() - v[0]->x(), v[1]->y() - v[0]->y(), v[2]->x() - v[0]->x(),
                                v[2]->y() - v[0]->y());
     if (area == 0.0) continue;  // seen edge-on from the ray: its neighbours' edges decide
-    if (area < 0.0) {           // counter-clockwise in x-y from here on
+    // Facing +z (counter-clockwise seen from above): the ray leaves the solid through it.
+    const int sign = area > 0.0 ? 1 : -1;
+    if (area < 0.0) {  // counter-clockwise in x-y from here on
       std::swap(v[1], v[2]);
       std::swap(t[1], t[2]);
     }
@@ -359,9 +378,9 @@ bool MeshSolid::contains(const Vec3& p) const {
     const double sum = e[0] + e[1] + e[2];
     const double z = sum != 0.0 ? (e[1] * v[0]->z() + e[2] * v[1]->z() + e[0] * v[2]->z()) / sum
                                 : std::max({v[0]->z(), v[1]->z(), v[2]->z()});
-    if (z > p.z()) ++crossings;
+    if (z > p.z()) crossings += sign;
   }
-  return (crossings & 1) != 0;
+  return crossings;
 }
 
 }  // namespace shatter::scene

@@ -81,7 +81,18 @@ Mesh read_mesh_shape(Reader& r, const std::filesystem::path& base_dir) {
   for (Vec3& v : mesh.vertices) v = shift + rotation * (scale * v);
   // Absolute in the resolved scene, so a resumed run finds the file from anywhere.
   r.table().insert_or_assign("file", file.string());
-  return Mesh{std::make_shared<const MeshSolid>(std::move(mesh))};
+  auto solid = std::make_shared<const MeshSolid>(std::move(mesh));
+  // Overlapping shells are filled once (winding number), but the volume and the intent are
+  // unclear: the user is told (a 32^3 probe of the bounding box; a thinner overlap is still
+  // filled correctly).
+  if (const auto p = solid->find_overlap(32)) {
+    r.fail("file", fmt::format("{}: the surface encloses the point {} more than once (overlapping "
+                               "shells or a self-intersecting surface); merge the shells into one "
+                               "surface in a mesh editor (a boolean union)",
+                               file.string(),
+                               fmt::format("({:.6g}, {:.6g}, {:.6g}) m", p->x(), p->y(), p->z())));
+  }
+  return Mesh{std::move(solid)};
 }
 
 Primitive read_primitive(Reader& r, const std::string& kind, bool centre_optional,

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,10 @@ TriangleMesh read_mesh(const std::filesystem::path& file);
 void check_closed(const TriangleMesh& mesh);
 
 // The solid a closed mesh encloses, for the lattice fill: an inside test that casts a ray along
-// +z and counts the triangles it crosses (odd = inside). A ray through an edge or a vertex
+// +z and sums the triangles it crosses, +1 for one facing +z and -1 for one facing -z (the
+// winding number; non-zero = inside). For a simple closed surface it is 0 or +-1 wherever
+// parity says outside or inside; where two closed shells of one mesh overlap it is +-2, so the
+// overlap is filled (ray parity left it empty: issue 33). A ray through an edge or a vertex
 // shared by several triangles is counted once: each projected edge belongs to exactly one side
 // (the top-left rule of rasterisers), decided on the edge's canonical direction so both
 // triangles agree bit for bit. Triangles are binned on a grid in x-y, so a test costs a few
@@ -39,6 +43,11 @@ class MeshSolid {
   explicit MeshSolid(TriangleMesh mesh);
 
   bool contains(const Eigen::Vector3d& p) const;
+  // The winding number of the surface about p (0 outside; +-1 inside a simple closed surface).
+  int winding(const Eigen::Vector3d& p) const;
+  // A point of an n x n x n grid of cell centres over the bounding box enclosed more than once
+  // (overlapping shells or a self-intersecting surface), if there is one.
+  std::optional<Eigen::Vector3d> find_overlap(int n) const;
   const Eigen::Vector3d& lo() const { return lo_; }
   const Eigen::Vector3d& hi() const { return hi_; }
   // Enclosed volume by the divergence theorem (sum of signed tetrahedra from the origin).
