@@ -21,6 +21,8 @@ Parts:
            byte-compared with an uninterrupted run (the wall-clock column of timeseries.csv aside)
   corrupt  random bytes of a checkpoint flipped: the resume refuses it naming the dataset, or
            (flip in unused bytes) finishes byte-identical
+  faults   (tests/fuzz/faults.py, issue 33) a full disk, SIGTERM then resume, lost time-series
+           rows, two resumes at once
 
 Bounded (CI): `fuzz.py --shatter BIN --cases 150 --kills 4` (a seeded sample of the scene
 cases). Long (before a release): `fuzz.py --shatter BIN --long` (every case, 100 kill loops,
@@ -38,7 +40,11 @@ import subprocess
 import sys
 import tempfile
 import time
+import types
 import zlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import faults  # noqa: E402  (tests/fuzz/faults.py)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -475,8 +481,9 @@ def main():
                     help="scene mutations to run, a seeded sample (0 = all); env SHATTER_FUZZ_CASES")
     ap.add_argument("--kills", type=int, default=4, help="kill-and-resume loops")
     ap.add_argument("--corruptions", type=int, default=3, help="corrupt-checkpoint trials")
+    ap.add_argument("--faults", type=int, default=4, help="fault-injection trials (faults.py)")
     ap.add_argument("--long", action="store_true",
-                    help="every case, 100 kill loops, 20 corruptions (before a release)")
+                    help="every case, 100 kill loops, 20 corruptions, 40 faults (before a release)")
     ap.add_argument("--seed", type=int, default=14)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--timeout", type=float, default=20.0, help="s per case")
@@ -485,6 +492,7 @@ def main():
     TIMEOUT = a.timeout
     if a.long:
         a.cases, a.kills, a.corruptions = 0, max(a.kills, 100), max(a.corruptions, 20)
+        a.faults = max(a.faults, 40)
     binary = os.path.abspath(a.shatter)
     rng = random.Random(a.seed)
     t_start = time.monotonic()
@@ -631,6 +639,21 @@ def main():
         # then both must read it, otherwise both must refuse it.
         if cxx not in ("refused", "exit 0") or (py != "no h5py" and (py == "read") != (cxx == "exit 0")):
             tally.fail("corrupt snapshot", f"C++ reader {cxx}, shatter_plot.py {py}: {r.err[-300:]}")
+
+    # --- fault injection (issue 33)
+    if a.faults:
+        t0 = time.monotonic()
+        ref_cadence_dir = os.path.join(work, "reference_cadence")
+        shatter(binary, ["run", tiny, "--out", ref_cadence_dir, "--threads", "1", "--quiet"]
+                + faults.CADENCE, cwd=work)
+        h = types.SimpleNamespace(
+            binary=binary, work=work, tiny=tiny, ref=ref, ref_seconds=ref_seconds,
+            ref_cadence=outputs(ref_cadence_dir), outputs=outputs, compare=compare,
+            shatter=lambda args: shatter(binary, args, cwd=work))
+        counts, failures = faults.fault_trials(h, a.faults, a.seed, verbose=True)
+        for f in failures:
+            tally.fail(f.split(":")[0], f.split(":", 1)[1])
+        print(f"faults: {a.faults} trials: {counts}, {time.monotonic() - t0:.1f} s")
 
     if tally.table_only:
         print(f"refusals naming the key's table or another key ({len(tally.table_only)}), e.g.:")
