@@ -10,6 +10,7 @@ import shutil
 import signal
 import subprocess
 import time
+import types
 
 KINDS = ("disk", "stop", "rows", "concurrent")
 CADENCE = ["--set", "output.timeseries_every=7"]  # the stop trials' rows
@@ -154,3 +155,15 @@ def fault_trials(h, trials, seed, verbose=False):
         elif verbose:
             print(f"  fault {k} ({kind}): {outcome}")
     return counts, failures
+
+
+def part(binary, work, tiny, ref, ref_seconds, shatter, outputs, compare, trials, seed):
+    """fuzz.py's fault part: a reference run with the stop trials' cadence, then the trials."""
+    ref_cadence = os.path.join(work, "reference_cadence")
+    shatter(binary, ["run", tiny, "--out", ref_cadence, "--threads", "1", "--quiet"] + CADENCE,
+            cwd=work)
+    h = types.SimpleNamespace(
+        binary=binary, work=work, tiny=tiny, ref=ref, ref_seconds=ref_seconds,
+        ref_cadence=outputs(ref_cadence), outputs=outputs, compare=compare,
+        shatter=lambda args: shatter(binary, args, cwd=work))
+    return fault_trials(h, trials, seed, verbose=True)

@@ -40,7 +40,6 @@ import subprocess
 import sys
 import tempfile
 import time
-import types
 import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -643,14 +642,8 @@ def main():
     # --- fault injection (issue 33)
     if a.faults:
         t0 = time.monotonic()
-        ref_cadence_dir = os.path.join(work, "reference_cadence")
-        shatter(binary, ["run", tiny, "--out", ref_cadence_dir, "--threads", "1", "--quiet"]
-                + faults.CADENCE, cwd=work)
-        h = types.SimpleNamespace(
-            binary=binary, work=work, tiny=tiny, ref=ref, ref_seconds=ref_seconds,
-            ref_cadence=outputs(ref_cadence_dir), outputs=outputs, compare=compare,
-            shatter=lambda args: shatter(binary, args, cwd=work))
-        counts, failures = faults.fault_trials(h, a.faults, a.seed, verbose=True)
+        counts, failures = faults.part(binary, work, tiny, ref, ref_seconds, shatter, outputs,
+                                       compare, a.faults, a.seed)
         for f in failures:
             tally.fail(f.split(":")[0], f.split(":", 1)[1])
         print(f"faults: {a.faults} trials: {counts}, {time.monotonic() - t0:.1f} s")
