@@ -176,27 +176,18 @@ void SphSolver::Impl::outflow_after_drift() {
 // without them the store's columns.
 ks::PairInputs SphSolver::Impl::inputs() {
   ParticleStore& P = s.particles_;
+  const auto read = [&](Field f, AlignedVector<double>& copy) {
+    return mirrors ? copy.data() : P.col(f).data();
+  };
   ks::PairInputs in;
-  if (mirrors) {
-    in.x = ex.data();
-    in.y = ey.data();
-    in.z = ez.data();
-    in.vx = evx.data();
-    in.vy = evy.data();
-    in.vz = evz.data();
-    in.mass = em.data();
-    in.rho = erho.data();
-    in.h = h.data();
-    return in;
-  }
-  in.x = P.col(Field::x).data();
-  in.y = P.col(Field::y).data();
-  in.z = P.col(Field::z).data();
-  in.vx = P.col(Field::vx).data();
-  in.vy = P.col(Field::vy).data();
-  in.vz = P.col(Field::vz).data();
-  in.mass = P.col(Field::mass).data();
-  in.rho = P.col(Field::rho).data();
+  in.x = read(Field::x, ex);
+  in.y = read(Field::y, ey);
+  in.z = read(Field::z, ez);
+  in.vx = read(Field::vx, evx);
+  in.vy = read(Field::vy, evy);
+  in.vz = read(Field::vz, evz);
+  in.mass = read(Field::mass, em);
+  in.rho = read(Field::rho, erho);
   in.h = h.data();
   return in;
 }

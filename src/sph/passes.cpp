@@ -98,13 +98,12 @@ void SphSolver::Impl::rates(double dt, double dt_kick) {
     }
     out.rho_n = mirrors ? erho.data() : rho_n.data();
   }
-  ks::KickHeating kick;
-  kick.pair_w = pair_w.data();
-  kick.ax = ax.data();
-  kick.ay = ay.data();
-  kick.az = az.data();
-  kick.dt_kick = dt_kick;
-  kick.heat = kick_heat.data();
+  const ks::KickHeating kick{.pair_w = pair_w.data(),
+                             .ax = ax.data(),
+                             .ay = ay.data(),
+                             .az = az.data(),
+                             .dt_kick = dt_kick,
+                             .heat = kick_heat.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
