@@ -5,6 +5,10 @@
 # version (ctest -R fuzz_bounded).
 #   bash tools/fuzz-long.sh [build/release] [extra fuzz.py options, e.g. --jobs 4]
 set -euo pipefail
+if [ "${1:-}" = "--help" ] || [ "${1:-}" = "-h" ]; then
+  sed -n '2,/^set -euo/p' "$0" | sed -n 's/^# \{0,1\}//p'
+  exit 0
+fi
 cd "$(dirname "$0")/.."
 build=${1:-build/release}
 shift || true

@@ -5,6 +5,10 @@
 # core (scenes/lab-impact-lundborg.toml at the same 1.2 mm spacing, into out/lab-impact-lundborg),
 # and draw each run's figures into RUN/plots (cross-section, failure ratio, fragments, energy).
 set -euo pipefail
+if [ "${1:-}" = "--help" ] || [ "${1:-}" = "-h" ]; then
+  sed -n '2,/^set -euo/p' "$0" | sed -n 's/^# \{0,1\}//p'
+  exit 0
+fi
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 

@@ -4,6 +4,10 @@
 # `setup.sh --tests` also installs what only the tests need (tools/test.sh passes it), so the
 # main command (tools/run-main.sh) does not download ParaView.
 set -euo pipefail
+if [ "${1:-}" = "--help" ] || [ "${1:-}" = "-h" ]; then
+  sed -n '2,/^set -euo/p' "$0" | sed -n 's/^# \{0,1\}//p'
+  exit 0
+fi
 
 packages=(
   build-essential cmake ninja-build pkg-config

@@ -12,6 +12,7 @@ Tillotson regions follow kernels/eos/tillotson.hpp (TillotsonRegion) with the ca
 parameters and the scene's overrides.
 """
 
+import argparse
 import csv
 import glob
 import math
@@ -141,4 +142,7 @@ def main(runs):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("runs", nargs="+", metavar="OUT_DIR", help="a `shatter run` directory")
+    main(ap.parse_args().runs)

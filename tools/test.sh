@@ -2,6 +2,10 @@
 # Sets up, builds and runs the whole test suite: a Release build, then the same tests built with
 # AddressSanitizer + UndefinedBehaviorSanitizer.
 set -euo pipefail
+if [ "${1:-}" = "--help" ] || [ "${1:-}" = "-h" ]; then
+  sed -n '2,/^set -euo/p' "$0" | sed -n 's/^# \{0,1\}//p'
+  exit 0
+fi
 cd "$(dirname "$0")/.."
 bash tools/setup.sh --tests
 

@@ -21,7 +21,7 @@ struct Brittle {
   template <class T>
   T evolve(const DamageInput<T>& in, DamageState<T>& st) const {
     const T sigma_max = largest_principal(in.s);
-    st.damage = lanes::select(sigma_max >= T(params.sigma_0), T(1.0), st.damage);
+    st.damage = simd::vselect(sigma_max >= T(params.sigma_0), T(1.0), st.damage);
     return st.damage;
   }
 };

@@ -49,16 +49,16 @@ struct GradyKipp {
     // and, with m_p ~ 40, drive any damaged particle in tension to D = 1 in one step.
     const T intact = xsimd::max(T(1.0) - d_old, T(params.min_intact_fraction));
     const T pressure = (in.s[0] + in.s[1] + in.s[2]) * T(-1.0 / 3.0);
-    const T p_star = lanes::select(pressure < T(0.0), intact * pressure, pressure);
+    const T p_star = simd::vselect(pressure < T(0.0), intact * pressure, pressure);
     // -p I shifts all principal values alike, so the largest of sigma follows from that of s.
     const T sigma_max = intact * (largest_principal(in.s) + pressure) - p_star;
     const T eps_eff = xsimd::max(sigma_max, T(0.0)) / (intact * in.young);
     // Eq. 17; no flaw is active below the weakest threshold (BA95 Sec. 4.3), and at most the
     // n_f flaws the particle holds can be.
     const auto active = (eps_eff >= st.eps_min) && (st.eps_min > T(0.0));
-    const T ratio = xsimd::max(eps_eff / lanes::select(active, st.eps_min, T(1.0)), T(1.0));
+    const T ratio = xsimd::max(eps_eff / simd::vselect(active, st.eps_min, T(1.0)), T(1.0));
     const T n_weibull = xsimd::exp(st.weibull_m * lanes::log(ratio));
-    const T n_act = lanes::select(active, xsimd::min(n_weibull, st.n_flaws), T(0.0));
+    const T n_act = simd::vselect(active, xsimd::min(n_weibull, st.n_flaws), T(0.0));
     // Eq. 19 integrated over dt in D^(1/3).
     const T radius =
         params.rs > 0.0 ? T(params.rs) : lanes::cbrt(in.volume * (3.0 / (4.0 * std::numbers::pi)));

@@ -1,11 +1,14 @@
 #pragma once
 // Lane-wise helpers that let a damage policy be written once for T = double (scalar reference
 // path) and T = xsimd::batch<double> (SIMD path). xsimd 8.1 has scalar overloads for the math
-// functions (sqrt, cbrt, acos, ...) but not for select, so the scalar select lives here.
+// functions (sqrt, cbrt, acos, ...) but not for select: the policies use simd::vselect
+// (kernels/constitutive/simd.hpp), the composed kernel's own, for both paths.
 
 #include <cmath>
 
 #include <xsimd/xsimd.hpp>
+
+#include "constitutive/simd.hpp"
 
 // GCC 12 reports -W(maybe-)uninitialized inside the AVX-512 intrinsics that pass
 // _mm512_undefined_pd() as the masked-off source (GCC PR 105593, fixed in GCC 13) wherever xsimd
@@ -17,18 +20,6 @@
 #endif
 
 namespace shatter::damage::lanes {
-
-// Branch-free choice per lane; for doubles the compiler emits a conditional move.
-inline double select(bool cond, double a, double b) {
-  return cond ? a : b;
-}
-
-template <class A>
-inline xsimd::batch<double, A> select(const xsimd::batch_bool<double, A>& cond,
-                                      const xsimd::batch<double, A>& a,
-                                      const xsimd::batch<double, A>& b) {
-  return xsimd::select(cond, a, b);
-}
 
 // log and cbrt. xsimd 8.1's AVX-512BW log and cbrt do not compile without optimisation (GCC then
 // defines the masked blend intrinsics as macros, whose casts reject xsimd's integer batches), so

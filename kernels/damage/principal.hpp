@@ -37,8 +37,8 @@ inline void jacobi_rotate(T& app, T& aqq, T& apq, T& apr, T& aqr) {
   const T denom = xsimd::abs(d) + xsimd::sqrt(d * d + h * h);
   // denom = 0 only when the block is already diagonal and isotropic: no rotation.
   const auto active = denom > T(0.0);
-  const T signed_h = lanes::select(d < T(0.0), -h, h);
-  const T t = lanes::select(active, signed_h / lanes::select(active, denom, T(1.0)), T(0.0));
+  const T signed_h = simd::vselect(d < T(0.0), -h, h);
+  const T t = simd::vselect(active, signed_h / simd::vselect(active, denom, T(1.0)), T(0.0));
   const T c = 1.0 / xsimd::sqrt(t * t + 1.0);
   const T s = t * c;
   app = app - t * apq;

@@ -136,6 +136,30 @@ struct KickHeating {
   double* heat = nullptr;  // out: specific heat added over the kick (J/kg)
 };
 
+// The end of pass 1 for particle i from the summed velocity gradient (Lsum: the sum of Eq. 18
+// before the division by rho): rho^{n+1} and the strain and spin increments.
+inline void write_rates(const double (&Lsum)[3][3], double rho_i, double dt, const RateOutputs& out,
+                        std::size_t i) {
+  // Eq. 16, forward in time: rho^{n+1} = rho^n - dt sum_j m_j (v_j - v_i) . grad_i W_ij.
+  const double rho_new = rho_i - dt * (Lsum[0][0] + Lsum[1][1] + Lsum[2][2]);
+  // Eq. 18 divides the sum by rho_i; with rho^{n+1} here, 1 + tr deps = rho^n / rho^{n+1}
+  // exactly, which is the density relation MaterialModel::update assumes (it recovers rho^n as
+  // rho (1 + tr deps) for its energy update dE = deps : sigma / rho^n). The pair then matches
+  // the momentum equation's sigma / rho^2 at both ends of the step, which makes the total energy
+  // error second order in dt (with rho^n here it was first order, measured).
+  const double kf = dt / rho_new;
+  out.deps[0][i] = kf * Lsum[0][0];
+  out.deps[1][i] = kf * Lsum[1][1];
+  out.deps[2][i] = kf * Lsum[2][2];
+  out.deps[3][i] = 0.5 * kf * (Lsum[0][1] + Lsum[1][0]);
+  out.deps[4][i] = 0.5 * kf * (Lsum[1][2] + Lsum[2][1]);
+  out.deps[5][i] = 0.5 * kf * (Lsum[0][2] + Lsum[2][0]);
+  out.dspin[0][i] = 0.5 * kf * (Lsum[0][1] - Lsum[1][0]);
+  out.dspin[1][i] = 0.5 * kf * (Lsum[1][2] - Lsum[2][1]);
+  out.dspin[2][i] = 0.5 * kf * (Lsum[0][2] - Lsum[2][0]);
+  out.rho[i] = rho_new;
+}
+
 // Pass 1 for particle i (positions x^n, velocities v^{n+1/2}) over its pairs within support
 // (nb, count; pair_w from list_offset on, entry for entry): velocity gradient from Eq. 18 (its
 // trace is Eq. 16) at the step's midpoint configuration, turned into the strain and spin
@@ -209,24 +233,7 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
   for (int a = 0; a < 3; ++a) {
     for (int b = 0; b < 3; ++b) Lsum[a][b] = L::sum(Ls[a][b]);
   }
-  // Eq. 16, forward in time: rho^{n+1} = rho^n - dt sum_j m_j (v_j - v_i) . grad_i W_ij.
-  const double rho_new = in.rho[i] - dt * (Lsum[0][0] + Lsum[1][1] + Lsum[2][2]);
-  // Eq. 18 divides the sum by rho_i; with rho^{n+1} here, 1 + tr deps = rho^n / rho^{n+1}
-  // exactly, which is the density relation MaterialModel::update assumes (it recovers rho^n as
-  // rho (1 + tr deps) for its energy update dE = deps : sigma / rho^n). The pair then matches
-  // the momentum equation's sigma / rho^2 at both ends of the step, which makes the total energy
-  // error second order in dt (with rho^n here it was first order, measured).
-  const double kf = dt / rho_new;
-  out.deps[0][i] = kf * Lsum[0][0];
-  out.deps[1][i] = kf * Lsum[1][1];
-  out.deps[2][i] = kf * Lsum[2][2];
-  out.deps[3][i] = 0.5 * kf * (Lsum[0][1] + Lsum[1][0]);
-  out.deps[4][i] = 0.5 * kf * (Lsum[1][2] + Lsum[2][1]);
-  out.deps[5][i] = 0.5 * kf * (Lsum[0][2] + Lsum[2][0]);
-  out.dspin[0][i] = 0.5 * kf * (Lsum[0][1] - Lsum[1][0]);
-  out.dspin[1][i] = 0.5 * kf * (Lsum[1][2] - Lsum[2][1]);
-  out.dspin[2][i] = 0.5 * kf * (Lsum[0][2] - Lsum[2][0]);
-  out.rho[i] = rho_new;
+  write_rates(Lsum, in.rho[i], dt, out, i);
   if (kick.heat != nullptr) kick.heat[i] = L::sum(heat) * kick.dt_kick;
 }
 

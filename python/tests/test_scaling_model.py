@@ -1,6 +1,6 @@
-"""Geometry of the MPI scaling model (tools/scaling_model.py, docs/scaling.md) against cases with
-known answers. Every comparison is exact (integers): the model counts nodes and points, so any
-difference is a bug, not round-off. Runs in about a second."""
+"""Geometry of the MPI scaling model (studies/scaling/scaling_model.py, docs/scaling.md) against
+cases with known answers. Every comparison is exact (integers): the model counts nodes and points,
+so any difference is a bug, not round-off. Runs in about a second."""
 
 import os
 import sys
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
+sys.path.insert(0, os.path.join(ROOT, "studies", "scaling"))
 
 import scaling_model as sm  # noqa: E402
 

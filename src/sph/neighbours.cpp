@@ -25,6 +25,35 @@ constexpr std::uint64_t key_of(std::uint64_t k0, std::uint64_t k1, std::uint64_t
   return (k2 << (2 * kBits)) | (k1 << kBits) | k0;
 }
 
+// The sorted slots [s0, s1) of the (up to) nine rows of three cells around cell `key`.
+struct Rows {
+  std::uint32_t count = 0;
+  std::uint32_t s0[9], s1[9];
+  std::size_t candidates = 0;
+};
+void rows_around(const std::vector<std::uint64_t>& cell_key,
+                 const std::vector<std::uint32_t>& cell_start, std::uint64_t key, Rows& rows) {
+  const std::uint64_t mask = kAxisCells - 1;
+  const std::uint64_t k0 = key & mask, k1 = (key >> kBits) & mask, k2 = key >> (2 * kBits);
+  rows.count = 0;
+  rows.candidates = 0;
+  for (std::uint64_t c2 = k2 > 0 ? k2 - 1 : 0; c2 <= std::min(k2 + 1, mask); ++c2) {
+    for (std::uint64_t c1 = k1 > 0 ? k1 - 1 : 0; c1 <= std::min(k1 + 1, mask); ++c1) {
+      // The row's cells x - 1 .. x + 1 are one key interval, one run of sorted points.
+      const std::uint64_t first = key_of(k0 > 0 ? k0 - 1 : 0, c1, c2);
+      const std::uint64_t last = key_of(std::min(k0 + 1, mask), c1, c2);
+      const auto a = std::lower_bound(cell_key.begin(), cell_key.end(), first);
+      auto b = a;
+      while (b != cell_key.end() && *b <= last) ++b;
+      if (a == b) continue;
+      rows.s0[rows.count] = cell_start[static_cast<std::size_t>(a - cell_key.begin())];
+      rows.s1[rows.count] = cell_start[static_cast<std::size_t>(b - cell_key.begin())];
+      rows.candidates += rows.s1[rows.count] - rows.s0[rows.count];
+      ++rows.count;
+    }
+  }
+}
+
 }  // namespace
 
 std::size_t NeighbourSearch::bytes() const {
@@ -151,34 +180,6 @@ void NeighbourSearch::make_lists(const double* x, const double* y, const double*
                       }
                     });
 
-  // The sorted slots [s0, s1) of the (up to) nine rows of three cells around cell `key`.
-  struct Rows {
-    std::uint32_t count = 0;
-    std::uint32_t s0[9], s1[9];
-    std::size_t candidates = 0;
-  };
-  auto rows_around = [&](std::uint64_t key, Rows& rows) {
-    const std::uint64_t mask = kAxisCells - 1;
-    const std::uint64_t k0 = key & mask, k1 = (key >> kBits) & mask, k2 = key >> (2 * kBits);
-    rows.count = 0;
-    rows.candidates = 0;
-    for (std::uint64_t c2 = k2 > 0 ? k2 - 1 : 0; c2 <= std::min(k2 + 1, mask); ++c2) {
-      for (std::uint64_t c1 = k1 > 0 ? k1 - 1 : 0; c1 <= std::min(k1 + 1, mask); ++c1) {
-        // The row's cells x - 1 .. x + 1 are one key interval, one run of sorted points.
-        const std::uint64_t first = key_of(k0 > 0 ? k0 - 1 : 0, c1, c2);
-        const std::uint64_t last = key_of(std::min(k0 + 1, mask), c1, c2);
-        const auto a = std::lower_bound(cell_key_.begin(), cell_key_.end(), first);
-        auto b = a;
-        while (b != cell_key_.end() && *b <= last) ++b;
-        if (a == b) continue;
-        rows.s0[rows.count] = cell_start_[static_cast<std::size_t>(a - cell_key_.begin())];
-        rows.s1[rows.count] = cell_start_[static_cast<std::size_t>(b - cell_key_.begin())];
-        rows.candidates += rows.s1[rows.count] - rows.s0[rows.count];
-        ++rows.count;
-      }
-    }
-  };
-
   // One pass over the candidates: each chunk of kGrain points (in sorted order, so neighbouring
   // points share cache lines, and the points of one cell share their rows, found once) gathers
   // its points' lists into its own buffer, kept between builds; the counts give the offsets, and
@@ -191,40 +192,7 @@ void NeighbourSearch::make_lists(const double* x, const double* y, const double*
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t c = r.begin(); c < r.end(); ++c) {
-                        std::vector<std::uint32_t>& buf = chunk_list_[c];
-                        std::size_t used = 0;
-                        Rows rows;
-                        std::uint64_t rows_key = 0;
-                        bool have_rows = false;
-                        for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
-                          const std::size_t i = sorted_[s];
-                          if (i >= n_lists) continue;  // a point that is only a neighbour
-                          const std::uint64_t key = keyed_[s].key;
-                          if (!have_rows || key != rows_key) {
-                            rows_around(key, rows);
-                            rows_key = key;
-                            have_rows = true;
-                          }
-                          if (buf.size() < used + rows.candidates) {
-                            buf.resize(std::max(2 * buf.size(), used + rows.candidates));
-                          }
-                          std::uint32_t* out = buf.data() + used;
-                          std::size_t m = 0;
-                          const double xi = xs_[s], yi = ys_[s], zi = zs_[s], hi_ = hs_[s];
-                          for (std::uint32_t row = 0; row < rows.count; ++row) {
-                            for (std::uint32_t t = rows.s0[row]; t < rows.s1[row]; ++t) {
-                              const double dx = xi - xs_[t], dy = yi - ys_[t], dz = zi - zs_[t];
-                              const double reach = hi_ + hs_[t] + skin;  // 2 h_ij (+ the skin)
-                              out[m] = sorted_[t];
-                              m += (dx * dx + dy * dy + dz * dz < reach * reach) & (t != s) ? 1 : 0;
-                            }
-                          }
-                          // Ascending index: the canonical order, whatever the cells and skin.
-                          std::sort(out, out + m);
-                          offsets_[i + 1] = m;
-                          used += m;
-                        }
-                        chunk_used_[c] = used;
+                        gather_chunk(c, n, n_lists, skin);
                       }
                     });
   for (std::size_t i = 0; i < n_lists; ++i) offsets_[i + 1] += offsets_[i];
@@ -242,6 +210,45 @@ void NeighbourSearch::make_lists(const double* x, const double* y, const double*
                         }
                       }
                     });
+}
+
+// The lists of the points in sorted slots [c kGrain, (c + 1) kGrain), gathered into chunk c's
+// buffer (see make_lists).
+void NeighbourSearch::gather_chunk(std::size_t c, std::size_t n, std::size_t n_lists, double skin) {
+  std::vector<std::uint32_t>& buf = chunk_list_[c];
+  std::size_t used = 0;
+  Rows rows;
+  std::uint64_t rows_key = 0;
+  bool have_rows = false;
+  for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
+    const std::size_t i = sorted_[s];
+    if (i >= n_lists) continue;  // a point that is only a neighbour
+    const std::uint64_t key = keyed_[s].key;
+    if (!have_rows || key != rows_key) {
+      rows_around(cell_key_, cell_start_, key, rows);
+      rows_key = key;
+      have_rows = true;
+    }
+    if (buf.size() < used + rows.candidates) {
+      buf.resize(std::max(2 * buf.size(), used + rows.candidates));
+    }
+    std::uint32_t* out = buf.data() + used;
+    std::size_t m = 0;
+    const double xi = xs_[s], yi = ys_[s], zi = zs_[s], hi_ = hs_[s];
+    for (std::uint32_t row = 0; row < rows.count; ++row) {
+      for (std::uint32_t t = rows.s0[row]; t < rows.s1[row]; ++t) {
+        const double dx = xi - xs_[t], dy = yi - ys_[t], dz = zi - zs_[t];
+        const double reach = hi_ + hs_[t] + skin;  // 2 h_ij (+ the skin)
+        out[m] = sorted_[t];
+        m += (dx * dx + dy * dy + dz * dz < reach * reach) & (t != s) ? 1 : 0;
+      }
+    }
+    // Ascending index: the canonical order, whatever the cells and skin.
+    std::sort(out, out + m);
+    offsets_[i + 1] = m;
+    used += m;
+  }
+  chunk_used_[c] = used;
 }
 
 }  // namespace shatter::sph

@@ -55,9 +55,9 @@ struct FlawStatistics {
 FlawStatistics flaw_statistics(const ParticleStore& store, Range range, const FlawSpec& spec,
                                std::size_t copies = 1);
 
-// Reads the flaw keys of a grady_kipp DamageSpec's params (see kernels/damage/policies.hpp):
+// Reads the flaw keys of a grady_kipp DamageSpec's params (see src/materials/damage_factory.hpp):
 // weibull_m, weibull_k, total_flaws, explicit_flaws (1 = benz_asphaug), seed. Keys it does not
-// know are ignored here (make_damage_policy validates the full set).
+// know are ignored here (materials::make_damage_policy validates the full set).
 FlawSpec flaw_spec_from_params(const std::map<std::string, double>& params, double young);
 
 }  // namespace shatter

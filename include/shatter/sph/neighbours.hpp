@@ -64,6 +64,8 @@ class NeighbourSearch {
                     std::size_t n, std::size_t n_lists, double skin);
   void make_lists(const double* x, const double* y, const double* z, const double* h, std::size_t n,
                   std::size_t n_lists, double skin);
+  // One chunk of make_lists: the lists of the points in sorted slots of chunk c.
+  void gather_chunk(std::size_t c, std::size_t n, std::size_t n_lists, double skin);
 
   struct KeyIndex {
     std::uint64_t key;

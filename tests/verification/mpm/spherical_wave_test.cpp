@@ -3,9 +3,9 @@
 // stress of a diverging wave, and the tension behind it, right (docs/validation-lab-impact.md,
 // Sec. 5, check 1)?
 //
-// Exact solution (derived in tools/spherical_wave.py, which also checks it by differences).
-// Linear elasticity, irrotational motion u = grad(phi), phi_tt = c_p^2 lap(phi). With spherical
-// symmetry w = r phi solves the 1D wave equation w_tt = c_p^2 w_rr, and
+// Exact solution (derived in studies/verification/spherical_wave.py, which also checks it by
+// differences). Linear elasticity, irrotational motion u = grad(phi), phi_tt = c_p^2 lap(phi). With
+// spherical symmetry w = r phi solves the 1D wave equation w_tt = c_p^2 w_rr, and
 //   u_r  = w_r / r - w / r^2,              v_r = w_rt / r - w_t / r^2,
 //   s_rr = M w_rr / r - 4 G (w_r / r^2 - w / r^3),                          (1)
 //   s_tt = lambda w_rr / r + 2 G (w_r / r^2 - w / r^3),                     (2)
@@ -68,8 +68,8 @@ struct Transfer {
     cfg.xpic_order = xpic_order;
     cfg.fmpm_order = fmpm_order;
   }
-  // docs/convergence.csv's scheme suffix (tools/plot_convergence.py): none for FLIP, _pic<f> for
-  // the blend (_pic1: PIC), _xpic<m>, _fmpm<k>, _apic.
+  // docs/convergence.csv's scheme suffix (studies/convergence/plot_convergence.py): none for FLIP,
+  // _pic<f> for the blend (_pic1: PIC), _xpic<m>, _fmpm<k>, _apic.
   std::string suffix() const {
     std::ostringstream s;
     if (kind == TransferKind::apic) s << "_apic";
@@ -290,7 +290,8 @@ TEST(SphericalWave, OctantOnThreeSymmetryPlanesMatchesFullBall) {
 //   SPHERICAL_WAVE_STUDY_CSV=file    appends one row per resolution in docs/convergence.csv's
 //                                    format (problem spherical_wave_srr[_scheme], the s_rr L2
 //                                    error, the run's CPU time in wall_s: run it with
-//                                    OMP_NUM_THREADS=1), for tools/plot_convergence.py.
+//                                    OMP_NUM_THREADS=1), for
+//                                    studies/convergence/plot_convergence.py.
 TEST(SphericalWave, DISABLED_ConvergenceStudy) {
   const char* prefix = std::getenv("SPHERICAL_WAVE_CSV");
   const char* start = std::getenv("SPHERICAL_WAVE_CT0");  // e.g. 1.2: outgoing start

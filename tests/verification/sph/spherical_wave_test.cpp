@@ -1,10 +1,10 @@
 // Spherically diverging elastic wave with SPH against its exact solution (issue 10, Validation
 // "Elastic waves"; docs/validation-sph.md). The same problem, exact solution, octant set-up and
 // error measures as the MPM test tests/verification/mpm/spherical_wave_test.cpp (derivation
-// there and in tools/spherical_wave.py), so the two methods' numbers stand side by side: only
-// the solver differs. "h" below is the MPM cell size of that test, a / cells_per_a, and the
-// points sit 2 x 2 x 2 per cell (spacing h / 2), so a/h means the same number of points in both;
-// the SPH smoothing length is h_factor x spacing (1.2 by default, 0.6 h). The three symmetry
+// there and in studies/verification/spherical_wave.py), so the two methods' numbers stand side by
+// side: only the solver differs. "h" below is the MPM cell size of that test, a / cells_per_a, and
+// the points sit 2 x 2 x 2 per cell (spacing h / 2), so a/h means the same number of points in
+// both; the SPH smoothing length is h_factor x spacing (1.2 by default, 0.6 h). The three symmetry
 // planes are the SPH solver's mirror particles (corner and edge images included).
 //
 // Exact solution (from the MPM test). Linear elasticity, irrotational motion u = grad(phi),

@@ -286,8 +286,8 @@ TEST(SphTensileRod, RodBreaksAcrossTheLoadAndTheFasterPullFailsMore) {
 }
 
 // Study (not in CI): the two rates at SHATTER_ROD_SPACING (default 1.25 mm, ~6 500 rod points)
-// over SHATTER_ROD_SEEDS flaw seeds (default 3), all threads. tools/sph_tensile_rod.py runs it
-// and tabulates the lines it prints.
+// over SHATTER_ROD_SEEDS flaw seeds (default 3), all threads. studies/sph_vs_mpm/sph_tensile_rod.py
+// runs it and tabulates the lines it prints.
 TEST(SphTensileRod, DISABLED_Study) {
   const char* env = std::getenv("SHATTER_ROD_SPACING");
   const double spacing = env != nullptr ? std::atof(env) : 1.25e-3;

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plot the convergence study (tools/convergence, CSV from `convergence_study`).
+"""Plot the convergence study (studies/convergence, CSV from `convergence_study`).
 
 Six log-log panels: the large-deformation manufactured solution (G = 0.05) against cell size
 and against wall time, the small-deformation MMS (G = 1e-4) and the vibrating bar's
@@ -13,7 +13,7 @@ FLIP/PIC blend with PIC fraction f), xpic<m> (XPIC of order m), fmpm<k> (FMPM of
 of xpic/fmpm optionally with _every<N> (the filter on every N-th step only, FLIP between); no
 scheme suffix is FLIP. Periodic (_every) schemes are drawn dashed.
 
-Usage: /usr/bin/python3 tools/plot_convergence.py docs/convergence.csv docs/convergence.png
+Usage: /usr/bin/python3 studies/convergence/plot_convergence.py docs/convergence.csv docs/convergence.png
 """
 import argparse
 import csv

@@ -181,7 +181,7 @@ def read_axis_history(run_dir, radii, width, cone):
     """Mean radial and hoop stress and largest principal stress of the target points within
     `width` of each distance in `radii` from the impact point and within `cone` degrees of the
     line from the impact point through the target centre, at every snapshot."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
     import shatter_plot as sp
     files = sp.snapshots(run_dir)
     _, first, axis = sp.read_snapshot(files[0])
@@ -354,7 +354,7 @@ def lab_table(run_dir, cone, window, out):
     into the target): medians of the peak radial compression, and of the peak radial tension,
     hoop tension and largest principal stress during the first passage (from the arrival d / c to
     d / c + window) and over the whole run."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
     import shatter_plot as sp
     m = BASALT
     files = sp.snapshots(run_dir)
@@ -460,7 +460,7 @@ def contact_force(run_dir, out):
     """Contact force of the projectile on the target along the axis into the target, from the
     projectile's momentum in consecutive snapshots (F = -dp/dt); writes CSV t_s,F_N for
     `sharpe --history`."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
     import shatter_plot as sp
     files = sp.snapshots(run_dir)
     _, first, axis = sp.read_snapshot(files[0])
@@ -485,7 +485,7 @@ def lab_noise(run_dir, cell):
     target points of the peak (over snapshots) largest principal stress of the point itself and
     of the mean stress tensor of the points sharing its grid cell (edge `cell`, current
     positions): the cell mean removes what varies from point to point within a cell."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
     import shatter_plot as sp
     files = sp.snapshots(run_dir)
     _, first, axis = sp.read_snapshot(files[0])

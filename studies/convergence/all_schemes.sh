@@ -4,7 +4,7 @@
 # at both amplitudes to 512 cells and the vibrating bar to 256 cells, and the spherical elastic
 # wave at a/h = 4-16 (SphericalWave.DISABLED_ConvergenceStudy of the verification_mpm test
 # program, its s_rr L2 error and CPU time), one thread per run.
-# Usage: tools/convergence/all_schemes.sh [build dir] [csv]   (about 15 min on one free core, and
+# Usage: studies/convergence/all_schemes.sh [build dir] [csv]   (about 15 min on one free core, and
 #        about 12 CPU-min for the spherical wave; build targets convergence_study and
 #        verification_mpm first)
 set -euo pipefail

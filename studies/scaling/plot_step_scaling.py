@@ -4,7 +4,7 @@
 Runs bench_step's BM_Step/ugimp once per (particle count, threads), one benchmark per process
 (SHATTER_BENCH_PARTICLES sets the count), and writes a CSV and a plot:
 
-    tools/plot_step_scaling.py [--build build/release] [--counts 1e4 3e4 1e5 3e5 1e6]
+    studies/scaling/plot_step_scaling.py [--build build/release] [--counts 1e4 3e4 1e5 3e5 1e6]
                                [--out docs/figures/performance/step_scaling] [--replot]
 
 Figures per run: particle-steps per wall second, per process-CPU second (the per-core rate,
@@ -21,7 +21,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def run(exe: Path, n: int, threads: int, min_time: float) -> dict:

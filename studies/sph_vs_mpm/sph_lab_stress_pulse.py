@@ -5,7 +5,7 @@ damage off and on).
 
 From runs of scenes/lab-impact.toml with dense snapshots (e.g. --set output.snapshot_every=0.5e-6),
 the target points within --width of each distance from the impact point and within --cone
-degrees of the line from the impact point through the target centre (tools/spherical_wave.py
+degrees of the line from the impact point through the target centre (studies/verification/spherical_wave.py
 read_axis_history: the same gauge as the MPM studies of docs/verification.md), per snapshot:
 the mean axial (radial from the impact point) stress s_rr and the mean largest principal stress.
 Table: the peak compression (min s_rr) and the peak tension (max largest principal stress) at
@@ -26,7 +26,7 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "verification"))
 import spherical_wave as sw  # noqa: E402
 
 

@@ -6,7 +6,7 @@ energy error, and the force the projectile exerts on the target (normal: along t
 the target, negative = pull; tangential: along the projectile's velocity component parallel to
 the surface) from the projectile momentum in 0.25 us snapshots of a 10 us run.
 
-    python3 tools/contact_lab_study.py BUILD/shatter OUTDIR [--seeds 1 2 3] [--analyse-only]
+    python3 studies/lab_impact/contact_lab_study.py BUILD/shatter OUTDIR [--seeds 1 2 3] [--analyse-only]
 """
 import argparse
 import os
@@ -15,7 +15,7 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
 import shatter_plot as sp  # noqa: E402
 
 CONFIGS = {

@@ -16,9 +16,13 @@ in the tail of a short elastic pulse is as large as its compression (zero net im
 ratio near 1 is the wave's own shape; ringing would make it depend on the viscosity."""
 
 import argparse
+import os
+import sys
 
 import numpy as np
 
+# The readers (shatter_plot) are among the user's tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
 import shatter_plot as sp
 
 def main():

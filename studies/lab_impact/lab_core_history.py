@@ -20,6 +20,7 @@ RUN_DIR/core_history.json.
 """
 
 import argparse
+import sys
 import csv
 import json
 import os
@@ -33,6 +34,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+# The readers (shatter_plot) are among the user's tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
 import shatter_plot as sp  # noqa: E402
 
 

@@ -13,6 +13,7 @@ stresses of the nominal flaws, 31.4 and 40.2 MPa). With the Grady–Kipp flaws o
 points fail (docs/validation-lab-impact.md, Sec. 4)."""
 
 import argparse
+import sys
 import os
 
 import matplotlib
@@ -20,6 +21,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+# The readers (shatter_plot) are among the user's tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
 import shatter_plot as sp
 
 

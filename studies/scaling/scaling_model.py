@@ -15,9 +15,9 @@ Predicts strong and weak scaling from 1 to 1024 ranks for the asteroid collision
 The geometry works per block (particles counted per block, never one by one), so 1e8-1e9 points
 take seconds. docs/scaling.md explains every assumption and shows the results.
 
-    tools/scaling_model.py                       # tables to stdout, figures into docs/figures
-    tools/scaling_model.py --quick               # no 1e9-point weak scaling (~15 s)
-    tools/scaling_model.py --debris RUN --drift RUN2 --tables T.md
+    studies/scaling/scaling_model.py                       # tables to stdout, figures into docs/figures
+    studies/scaling/scaling_model.py --quick               # no 1e9-point weak scaling (~15 s)
+    studies/scaling/scaling_model.py --debris RUN --drift RUN2 --tables T.md
         # also the debris cloud of a coarse run (snapshots up to 100 s) and the drift between
         # recuts (snapshots every 0.5 s); docs/scaling.md gives the two run commands
 
@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 # ---------------------------------------------------------------------------------------------
 # Stated parameters (docs/scaling.md, "Assumptions", says where each comes from)

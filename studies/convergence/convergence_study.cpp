@@ -1,6 +1,7 @@
 // Error against resolution and run time for the verification problems with exact solutions
 // (shared/reference/verification-problems.md, problems 1 and 2): sweeps cell counts and shape
-// functions and writes one CSV row per run and error measure. tools/plot_convergence.py plots it.
+// functions and writes one CSV row per run and error measure.
+// studies/convergence/plot_convergence.py plots it.
 #include <algorithm>
 #include <cstdio>
 #include <fstream>

@@ -2,7 +2,7 @@
 // explicit flaws (Eq. 20: N_f ~ N ln N thresholds eps_j = (j / kV)^(1/m), each on a random
 // particle until every particle holds one) and the damage cap of Eq. 22,
 // D_i <= (n_i / n_i^tot)^(1/3), per particle in a loaded SPH run. The flaw draw and the damage
-// kernel have their own unit tests (tests/unit/fracture); this checks what SPH particles get.
+// kernel have their own unit tests beside this file; this checks what SPH particles get.
 
 #include <algorithm>
 #include <cmath>

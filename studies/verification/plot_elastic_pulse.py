@@ -17,6 +17,7 @@ largest tension anywhere. The exact solution has no tension at all before the pu
 far face, so the last figure is the spurious tension a fracture model sees."""
 
 import argparse
+import sys
 import os
 
 import matplotlib
@@ -24,6 +25,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+# The readers (shatter_plot) are among the user's tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "tools"))
 import shatter_plot as sp
 
 
