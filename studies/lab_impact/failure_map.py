@@ -56,7 +56,8 @@ def main():
     args = ap.parse_args()
     for run in args.runs:
         t, rows = failure_map(run, args.time)
-        print(f"\n{run} at {t * 1e6:.1f} us: failed share (points) by distance from the impact point")
+        print(f"\n{run} at {t * 1e6:.1f} us: failed share (points) by distance from the "
+              "impact point")
         print("| from impact (mm) | r0 < R/3 | R/3-2R/3 | 2R/3-R |\n|---|---|---|---|")
         for lo, row in rows:
             print(f"| {lo * 1e3:.0f}-{lo * 1e3 + 10:.0f} | " + " | ".join(row) + " |")
