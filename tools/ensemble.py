@@ -21,10 +21,18 @@ Per run (tools/plot_lab_convergence.py summarise(), the readers of tools/shatter
   (interpolated in timeseries.csv), the largest fragment's mass over the target mass and its
   speed, the distance of its centre of mass from the target centre, whether it is a core, and
   the largest |relative total-energy error| over the run.
-A *core* is a largest fragment whose centre lies within --core-radius (default 5 mm) of the
+  the failed share of the target's points in three shells of their starting distance from the
+  target centre (inner r0 < R/3, middle R/3-2R/3, outer 2R/3-R; by point count, half model as
+  run), at the end of the run: what tells a core from a hollow survivor or a far-side crescent.
+  the failed share of the target points that lie, at the end, within R/3 of the largest
+  fragment's centre of mass: low for a solid fragment, high for a hollow one.
+A *central* largest fragment is one whose centre lies within --core-radius (default 5 mm) of the
 target centre: the definition of docs/validation-lab-variants.md ("a central core (within 5 mm of
 the target centre)"); docs/validation-lab-impact.md's core-shaped fragments sit within 4 mm,
-its no-core largest fragments 13-17 mm out.
+its no-core largest fragments 13-17 mm out. A *core* (issue 27) is more: a central largest
+fragment that is intact at its middle, at most --core-failed (default 0.5) of the points within
+R/3 of its centre failed. A hollow survivor (its centre of mass near the target centre, its
+middle failed) is central but not a core.
 
 Writes DIR/ensemble.csv (one row per run, then mean, std, min, max rows) and DIR/ensemble.md (a
 markdown table of mean +- std and range, and the per-run rows). Standard deviations are sample
@@ -57,6 +65,10 @@ QUANTITIES = (
     ("largest_speed", "its speed (m/s)", "{:.2f}"),
     ("largest_offset_mm", "its centre from target centre (mm)", "{:.1f}"),
     ("energy_error", "max energy error", "{:.2%}"),
+    ("failed_inner", "failed r0 < R/3", "{:.1%}"),
+    ("failed_middle", "failed R/3-2R/3", "{:.1%}"),
+    ("failed_outer", "failed 2R/3-R", "{:.1%}"),
+    ("failed_near_largest", "failed within R/3 of the largest's centre", "{:.1%}"),
 )
 
 
@@ -74,10 +86,56 @@ def run_one(args, seed):
     return run_dir, rc
 
 
-def summarise_run(run_dir, core_radius_mm):
+def shell_failure(run_dir):
+    """Failed share (D >= the scene's fracture.threshold) of the target's points at the run's last
+    snapshot in the inner, middle and outer thirds of the target radius, by the points' starting
+    distance from the target centre (matched by id to the first snapshot)."""
+    scene = lab.scene_of(run_dir)
+    files = lab.sp.snapshots(run_dir)
+    _, first, _ = lab.sp.read_snapshot(files[0])
+    _, last, _ = lab.sp.read_snapshot(files[-1])
+    tb = lab.target_body(first)
+    centre = np.array(scene["body"]["target"]["centre"], dtype=float)
+    radius = float(scene["body"]["target"]["radius"])
+    threshold = scene.get("fracture", {}).get("threshold", 0.9)
+    in0 = first["body"].astype(int) == tb
+    pos0 = np.stack([first["x"], first["y"], first["z"]], 1)[in0]
+    r0_by_id = dict(zip(first["id"][in0].astype(np.int64), np.linalg.norm(pos0 - centre, axis=1)))
+    sel = last["body"].astype(int) == tb
+    ids = last["id"][sel].astype(np.int64)
+    r0 = np.array([r0_by_id.get(i, np.nan) for i in ids])
+    failed = last["damage"][sel] >= threshold
+    out = []
+    for lo, hi in ((0.0, 1.0 / 3.0), (1.0 / 3.0, 2.0 / 3.0), (2.0 / 3.0, np.inf)):
+        m = (r0 >= lo * radius) & (r0 < hi * radius)
+        out.append(float(failed[m].mean()) if np.any(m) else np.nan)
+    # Around the largest fragment's centre of mass (fragments.csv: largest first; whole body,
+    # so on a symmetry plane its centre lies in the plane and the half model's points suffice).
+    with open(os.path.join(run_dir, "fragments.csv")) as f:
+        f.readline()
+        rows = list(csv.DictReader(f))
+    near = np.nan
+    if rows:
+        big = max(rows, key=lambda r: float(r["mass_kg"]))
+        c = np.array([float(big[k]) for k in ("x_m", "y_m", "z_m")])
+        pos = np.stack([last["x"][sel], last["y"][sel], last["z"][sel]], 1)
+        m = np.linalg.norm(pos - c, axis=1) < radius / 3.0
+        near = float(failed[m].mean()) if np.any(m) else np.nan
+    out.append(near)
+    return out
+
+
+def summarise_run(run_dir, core_radius_mm, core_failed=0.5):
     s = lab.summarise(run_dir)
     t = s["time_us"]
+    inner, middle, outer, near = shell_failure(run_dir)
+    central = bool(s["largest_offset_mm"] <= core_radius_mm)
     return {
+        "failed_inner": inner,
+        "failed_middle": middle,
+        "failed_outer": outer,
+        "failed_near_largest": near,
+        "central": central,
         "run": os.path.basename(run_dir),
         "failure_40": float(np.interp(40.0, t, s["failure"])),
         "failure_100": float(np.interp(100.0, t, s["failure"])),
@@ -85,7 +143,7 @@ def summarise_run(run_dir, core_radius_mm):
         "largest_speed": s["largest_speed"],
         "largest_offset_mm": s["largest_offset_mm"],
         "energy_error": s["max_abs_energy_error"],
-        "core": bool(s["largest_offset_mm"] <= core_radius_mm),
+        "core": central and near <= core_failed,
         "cpu_s": s["cpu_s"],
         "t_end_us": s["t_end_us"],
     }
@@ -104,12 +162,13 @@ def statistics(rows):
             continue
         out[key] = (v.mean(), v.std(ddof=1) if len(v) > 1 else 0.0, v.min(), v.max())
     out["cores"] = sum(r["core"] for r in rows)
+    out["central"] = sum(r["central"] for r in rows)
     out["n"] = len(rows)
     return out
 
 
 def write_csv(path, rows, stats):
-    keys = ["run"] + [k for k, _, _ in QUANTITIES] + ["core", "cpu_s", "t_end_us"]
+    keys = ["run"] + [k for k, _, _ in QUANTITIES] + ["central", "core", "cpu_s", "t_end_us"]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(keys)
@@ -117,7 +176,8 @@ def write_csv(path, rows, stats):
             w.writerow([r[k] for k in keys])
         for i, name in enumerate(("mean", "std", "min", "max")):
             w.writerow([name] + [stats[k][i] for k, _, _ in QUANTITIES] +
-                       [stats["cores"] if name == "mean" else "", "", ""])
+                       [stats["central"] if name == "mean" else "",
+                        stats["cores"] if name == "mean" else "", "", ""])
 
 
 def cell(stats, key, fmt):
@@ -126,12 +186,14 @@ def cell(stats, key, fmt):
 
 
 def summary_header():
-    head = ["ensemble", "runs"] + [h + ", mean ± std (range)" for _, h, _ in QUANTITIES] + ["cores"]
+    head = (["ensemble", "runs"] + [h + ", mean ± std (range)" for _, h, _ in QUANTITIES] +
+            ["central", "cores"])
     return "| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n"
 
 
 def summary_row(label, stats):
     cells = [label, str(stats["n"])] + [cell(stats, k, f) for k, _, f in QUANTITIES]
+    cells.append(f"{stats['central']}/{stats['n']}")
     cells.append(f"{stats['cores']}/{stats['n']}")
     return "| " + " | ".join(cells) + " |\n"
 
@@ -140,13 +202,15 @@ def write_markdown(path, label, rows, stats):
     with open(path, "w") as f:
         f.write(summary_header())
         f.write(summary_row(label, stats))
-        f.write("\n| run | " + " | ".join(h for _, h, _ in QUANTITIES) + " | core | CPU s |\n")
-        f.write("|---|" + "---|" * (len(QUANTITIES) + 2) + "\n")
+        f.write("\n| run | " + " | ".join(h for _, h, _ in QUANTITIES) +
+                " | central | core | CPU s |\n")
+        f.write("|---|" + "---|" * (len(QUANTITIES) + 3) + "\n")
         for r in rows:
             vals = [fmt.format(r[k]) for k, _, fmt in QUANTITIES]
             cpu = f"{r['cpu_s']:.0f}" if r["cpu_s"] is not None else "-"
             f.write(f"| {r['run']} | " + " | ".join(vals) +
-                    f" | {'yes' if r['core'] else 'no'} | {cpu} |\n")
+                    f" | {'yes' if r['central'] else 'no'} | {'yes' if r['core'] else 'no'}"
+                    f" | {cpu} |\n")
 
 
 def comparison(stats, ref, key="largest_fraction"):
@@ -158,7 +222,7 @@ def comparison(stats, ref, key="largest_fraction"):
 
 
 def write_runs_csv(path, table):
-    keys = [k for k, _, _ in QUANTITIES] + ["core", "cpu_s", "t_end_us"]
+    keys = [k for k, _, _ in QUANTITIES] + ["central", "core", "cpu_s", "t_end_us"]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["ensemble", "run"] + keys)
@@ -187,6 +251,8 @@ def main():
     ap.add_argument("--shatter", default="build/release/shatter")
     ap.add_argument("--label", help="row label (default: the output directory's name)")
     ap.add_argument("--core-radius", type=float, default=5.0, help="mm (default 5)")
+    ap.add_argument("--core-failed", type=float, default=0.5,
+                    help="largest failed share within R/3 of a core's centre (default 0.5)")
     ap.add_argument("--summarise", nargs="+", metavar="DIR",
                     help="only tabulate finished ensembles, one row each")
     ap.add_argument("--reference", metavar="DIR",
@@ -197,14 +263,15 @@ def main():
 
     if args.summarise:
         name = lambda d: os.path.basename(os.path.normpath(d))  # noqa: E731
-        table = [(name(d), [summarise_run(r, args.core_radius) for r in finished_runs(d)])
-                 for d in args.summarise]
+        table = [(name(d), [summarise_run(r, args.core_radius, args.core_failed)
+                            for r in finished_runs(d)]) for d in args.summarise]
         table = [(n, rows) for n, rows in table if rows]
         sys.stdout.write(summary_header())
         for n, rows in table:
             sys.stdout.write(summary_row(n, statistics(rows)))
         if args.reference:
-            ref_rows = [summarise_run(r, args.core_radius) for r in finished_runs(args.reference)]
+            ref_rows = [summarise_run(r, args.core_radius, args.core_failed)
+                        for r in finished_runs(args.reference)]
             if len(ref_rows) < 2:
                 ap.error(f"--reference: fewer than 2 finished runs in '{args.reference}'")
             ref = statistics(ref_rows)
@@ -235,7 +302,8 @@ def main():
     if failed:
         print(f"{len(failed)} run(s) failed; no table written", file=sys.stderr)
         return 1
-    rows = [summarise_run(os.path.join(args.out_dir, f"seed{s}"), args.core_radius) for s in seeds]
+    rows = [summarise_run(os.path.join(args.out_dir, f"seed{s}"), args.core_radius,
+                          args.core_failed) for s in seeds]
     stats = statistics(rows)
     label = args.label or os.path.basename(os.path.normpath(args.out_dir))
     write_csv(os.path.join(args.out_dir, "ensemble.csv"), rows, stats)
