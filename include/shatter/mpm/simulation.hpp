@@ -16,6 +16,9 @@
 #include "shatter/parallel/comm.hpp"
 
 namespace shatter {
+namespace mpm {
+struct State;  // src/mpm/state.hpp
+}
 
 class Simulation final : public Solver {
  public:
@@ -74,7 +77,6 @@ class Simulation final : public Solver {
   double internal_next() const override;
 
  private:
-  struct Impl;
   SolverConfig config_;
   ParticleStore particles_;
   std::vector<MaterialPtr> materials_;
@@ -82,7 +84,7 @@ class Simulation final : public Solver {
   Clock clock_;
   EnergyBudget energy_;
   std::uint64_t retakes_ = 0;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<mpm::State> state_;  // the step's state; references the members above
 };
 
 }  // namespace shatter
