@@ -49,28 +49,34 @@ void Journal::save(const State& s) {
   internal_next_ = s.internal_next;
 }
 
-void Journal::begin_attempt(bool may_retake) {
-  armed_ = may_retake;
-  permuted_ = whole_ = false;
+void Journal::begin_attempt(ParticleStore& P, bool may_retake) {
+  P.attach(may_retake ? this : nullptr);
+  order_.clear();
+  whole_ = false;
   left_.clear();
 }
 
-void Journal::end_step() {
-  armed_ = false;
+void Journal::end_step(ParticleStore& P) {
+  P.attach(nullptr);
   store_ = ParticleStore{};  // a store migration replaced is freed, as it was before
+}
+
+void Journal::permuted(std::span<const std::uint32_t> order) {
+  order_.assign(order.begin(), order.end());
 }
 
 void Journal::restore(State& s) {
   ParticleStore& P = s.particles;
+  P.attach(nullptr);  // the undoing is not an attempt's change
   if (whole_) {
     P = store_;  // taken before migration moved anything: the store at t^n
   } else {
     // Undo in the reverse order of the step: the outflow removal, then the re-order.
     if (!left_.empty()) undo_outflow(P);
-    if (permuted_) {
-      std::vector<std::uint32_t> inverse(s.order.size());
-      for (std::size_t k = 0; k < s.order.size(); ++k)
-        inverse[s.order[k]] = static_cast<std::uint32_t>(k);
+    if (!order_.empty()) {
+      std::vector<std::uint32_t> inverse(order_.size());
+      for (std::size_t k = 0; k < order_.size(); ++k)
+        inverse[order_[k]] = static_cast<std::uint32_t>(k);
       P.permute(inverse);
     }
     copy_columns(fields_.size(), P.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
@@ -84,7 +90,7 @@ void Journal::restore(State& s) {
 }
 
 void Journal::removing(const ParticleStore& P, std::span<const std::uint8_t> leaving) {
-  if (!armed_ || whole_) return;
+  if (whole_) return;  // the store at t^n is kept whole
   left_.assign(leaving.begin(), leaving.end());
   for (std::size_t i = 0; i < kFieldCount; ++i) {
     const auto f = static_cast<Field>(i);
@@ -107,7 +113,6 @@ void Journal::removing(const ParticleStore& P, std::span<const std::uint8_t> lea
 }
 
 void Journal::replacing(ParticleStore& before) {
-  if (!armed_) return;
   store_ = std::move(before);  // the store at t^n, for a retake; kept rather than freed
   whole_ = true;
 }

@@ -1,8 +1,8 @@
 #pragma once
 // The step retake (Simulation::step): the state before the step being taken, to take it again,
 // and a journal of what the attempt under way did to the store's layout (re-order, outflow,
-// migration), which the restore undoes. The stages report their layout changes here and keep
-// no retake logic of their own.
+// migration), which the restore undoes. The store itself tells the journal of each change
+// (LayoutJournal), so the stages hold no retake code.
 
 #include <array>
 #include <cstdint>
@@ -32,23 +32,22 @@ constexpr FieldSet kStepConstant{Field::mass,    Field::volume0, Field::size0,  
 constexpr FieldSet kStepLocal =
     kStrainIncrement | kSpinIncrement | FieldSet{Field::pressure, Field::soundspeed};
 
-class Journal {
+class Journal final : public LayoutJournal {
  public:
   // Before the first attempt: the columns the step writes, the groups, clock and accounts.
   void save(const State& s);
-  // Before each attempt: record layout changes only when the attempt may be retaken.
-  void begin_attempt(bool may_retake);
+  // Before each attempt: when it may be retaken, the journal attaches to the store and records
+  // the layout changes the stages make (ParticleStore tells it).
+  void begin_attempt(ParticleStore& P, bool may_retake);
   // The state at t^n again, with every layout change of the attempt undone.
   void restore(State& s);
-  // After the last attempt: nothing more to record; a store migration replaced is freed.
-  void end_step();
+  // After the last attempt: detached; a store migration replaced is freed.
+  void end_step(ParticleStore& P);
 
-  // Layout changes, reported by the stages that make them.
-  void permuted() { permuted_ = armed_; }  // the sort stage re-ordered the store by State::order
-  // Outflow is about to remove the flagged particles: keep their unsaved columns.
-  void removing(const ParticleStore& P, std::span<const std::uint8_t> leaving);
-  // Migration is about to replace the store: keep the store at t^n rather than free it.
-  void replacing(ParticleStore& before);
+  // LayoutJournal: the sort stage's re-order, outflow's removal, migration's replacement.
+  void permuted(std::span<const std::uint32_t> order) override;
+  void removing(const ParticleStore& P, std::span<const std::uint8_t> leaving) override;
+  void replacing(ParticleStore& before) override;
 
   StageTiming timing{"retake_copy", 0.0};  // wall time of the saves and restores
 
@@ -62,8 +61,7 @@ class Journal {
   Clock clock_;
   EnergyBudget energy_;
   double internal_next_ = 0.0;
-  bool armed_ = false;     // the attempt under way may be retaken: record layout changes
-  bool permuted_ = false;  // the sort stage re-ordered the store
+  std::vector<std::uint32_t> order_;  // the sort stage's re-order (empty: none)
   // Outflow removed the particles flagged here (over the store before the removal; empty:
   // none); their unsaved columns, in store order.
   std::vector<std::uint8_t> left_;

@@ -1,5 +1,6 @@
-// Simulation: the MPM solver's set-up (the checks, the columns the stages need, the ranks) and
-// its accessors. The step is src/mpm/step.cpp, its stages src/mpm/stages/.
+// Simulation: the MPM solver's set-up (the columns the stages need, the ranks) and its
+// accessors. The transfer scheme is decided once, in mpm::TransferPolicy. The step is
+// src/mpm/step.cpp, its stages src/mpm/stages/.
 
 #include "shatter/mpm/simulation.hpp"
 
@@ -54,51 +55,9 @@ void check_config(const SolverConfig& c) {
   }
 }
 
-void check_transfer(const SolverConfig& c) {
-  if (c.transfer == TransferKind::apic && c.shape == ShapeKind::linear) {
-    // C_p = sum v_I grad N_I^T jumps when a point crosses a cell face with linear shapes; the
-    // colliding-sphere test diverges within 50 steps. Jiang et al. (2015) use smooth kernels.
-    throw std::invalid_argument(
-        "solver: transfer 'apic' needs a smooth shape function (ugimp or bspline2), not 'linear'");
-  }
-  if (!(c.pic_fraction >= 0.0 && c.pic_fraction <= 1.0)) {
-    throw std::invalid_argument(
-        fmt::format("solver: pic_fraction must be in [0, 1], got {}", c.pic_fraction));
-  }
-  if (c.pic_fraction != 0.0 && c.transfer != TransferKind::flip) {
-    throw std::invalid_argument(fmt::format(
-        "solver: pic_fraction applies only to transfer 'flip' (the FLIP/PIC blend), not '{}'",
-        name_of(c.transfer)));
-  }
-  // Orders past ~40 are unstable (Hammerquist & Nairn 2017; each order is one more
-  // grid-particle-grid pass), and the binomial weights C(m, k) lose precision.
-  constexpr int kMaxXpicOrder = 32;
-  if (c.transfer == TransferKind::xpic && (c.xpic_order < 1 || c.xpic_order > kMaxXpicOrder)) {
-    throw std::invalid_argument(
-        fmt::format("solver: xpic_order must be in [1, {}], got {}", kMaxXpicOrder, c.xpic_order));
-  }
-  // FMPM(k): the same passes as XPIC, so the same bound; Nairn (2026, arXiv 2604.07307) finds
-  // high orders need smaller time steps, so large k is for study, not production.
-  constexpr int kMaxFmpmOrder = 32;
-  if (c.transfer == TransferKind::fmpm && (c.fmpm_order < 1 || c.fmpm_order > kMaxFmpmOrder)) {
-    throw std::invalid_argument(
-        fmt::format("solver: fmpm_order must be in [1, {}], got {}", kMaxFmpmOrder, c.fmpm_order));
-  }
-  if (c.filter_every < 1) {
-    throw std::invalid_argument(
-        fmt::format("solver: filter_every must be >= 1, got {}", c.filter_every));
-  }
-  if (c.filter_every != 1 && c.transfer != TransferKind::xpic && c.transfer != TransferKind::fmpm) {
-    // APIC's C_p and the blend's fraction act on every step; a FLIP step would drop C_p.
-    throw std::invalid_argument(
-        fmt::format("solver: filter_every applies only to transfer 'xpic' or 'fmpm', not '{}'",
-                    name_of(c.transfer)));
-  }
-}
-
 // The columns the stages and the models need, and the particle sizes uGIMP needs.
 void prepare_store(ParticleStore& P, const std::vector<MaterialPtr>& materials,
-                   const SolverConfig& c) {
+                   const mpm::TransferPolicy& transfer) {
   if (P.has(Field::size0)) {
     // A zero size would make the uGIMP weights 0/0; such particles get the cubic-lattice size.
     auto s = P.col(Field::size0);
@@ -117,7 +76,7 @@ void prepare_store(ParticleStore& P, const std::vector<MaterialPtr>& materials,
   }
   P.require(kEngineFields);
   // C_p starts at zero: the scene gives velocities, not their gradients.
-  if (c.transfer == TransferKind::apic) P.require(kVelocityGradient);
+  if (transfer.affine) P.require(kVelocityGradient);
   P.require(IField::id);
   for (const auto& m : materials) P.require(m->fields());
   for (const Group& g : P.groups()) {
@@ -212,9 +171,11 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
   check_solver_inputs(
       particles_, materials_,
       {Field::x, Field::y, Field::z, Field::vx, Field::vy, Field::vz, Field::mass, Field::rho});
-  check_transfer(config_);
-  prepare_store(particles_, materials_, config_);
-  state_ = std::make_unique<mpm::State>(config_, particles_, materials_, clock_, energy_, threads);
+  // The transfer scheme, decided once (mpm::TransferPolicy).
+  const mpm::TransferPolicy transfer = mpm::TransferPolicy::from(config_);
+  prepare_store(particles_, materials_, transfer);
+  state_ = std::make_unique<mpm::State>(config_, particles_, materials_, clock_, energy_, transfer,
+                                        threads);
   mpm::State& s = *state_;
   s.contact = make_contact(config_.contact, particles_);
   const auto masses = particles_.col(Field::mass);
@@ -250,6 +211,11 @@ double Simulation::grid_mass() const {
 }
 const std::vector<StageTiming>& Simulation::stage_timings() const {
   return state_->timings;
+}
+std::vector<std::string> Simulation::stage_names() const {
+  std::vector<std::string> out;
+  for (const StageTiming& t : state_->graph.timings()) out.push_back(t.name);
+  return out;
 }
 parallel::Traffic Simulation::halo_traffic() const {
   return state_->ranks.halo_traffic;

@@ -69,7 +69,7 @@ struct Fault {
 
 struct State {
   State(const SolverConfig& cfg, ParticleStore& store, const std::vector<MaterialPtr>& models,
-        Clock& clk, EnergyBudget& budget, int threads)
+        Clock& clk, EnergyBudget& budget, const TransferPolicy& policy, int threads)
       : config(cfg),
         particles(store),
         materials(models),
@@ -77,7 +77,7 @@ struct State {
         energy(budget),
         arena(threads > 0 ? threads : tbb::task_arena::automatic),
         boundaries(cfg.domain, cfg.cell_size),
-        transfer(TransferPolicy::from(cfg)) {}
+        transfer(policy) {}
 
   const SolverConfig& config;
   ParticleStore& particles;

@@ -78,7 +78,7 @@ void Simulation::step() {
   const bool may_retake = config_.retake_ratio > 0.0;
   if (may_retake) timed([&] { journal.save(s); });
   for (int attempt = 0;; ++attempt) {
-    journal.begin_attempt(may_retake);
+    journal.begin_attempt(particles_, may_retake);
     s.dt_step = clock_.dt;
     s.filtering = s.transfer.filters_step(clock_.step);
     s.arena.execute([&] { s.graph.run(); });
@@ -91,7 +91,7 @@ void Simulation::step() {
     clock_.dt = shorter;
     ++retakes_;
   }
-  journal.end_step();
+  journal.end_step(particles_);
   mpm::refresh_timings(s);
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The transfer scheme (TransferKind), decided once when the solver is built: which stages the
 // step has and what each transfer does, as plain data the stages read. The scene checks the
-// configuration (src/scene/parse_solver.cpp); this only derives from it.
+// configuration for a user (src/scene/parse_solver.cpp); TransferPolicy::from refuses what no
+// policy implements, for callers that build a SolverConfig themselves.
 
 #include <cstdint>
 
@@ -22,22 +23,20 @@ struct TransferPolicy {
   int filter_every = 1;
   double pic_fraction = 0.0;  // FLIP: the share of the grid velocity (the FLIP/PIC blend)
 
-  static TransferPolicy from(const SolverConfig& c) {
-    TransferPolicy t;
-    t.kind = c.transfer;
-    t.affine = c.transfer == TransferKind::apic;
-    t.remap = !t.affine;
-    t.order = c.transfer == TransferKind::xpic   ? c.xpic_order
-              : c.transfer == TransferKind::fmpm ? c.fmpm_order
-                                                 : 1;
-    t.filter_every = c.filter_every;
-    t.pic_fraction = c.pic_fraction;
-    return t;
-  }
+  // The policy of a configuration; throws std::invalid_argument for a combination no policy
+  // implements (the scene reports the same rules with file, line and key: parse_solver.cpp;
+  // this guards the API the tests and benchmarks use directly).
+  static TransferPolicy from(const SolverConfig& c);
 
   // The step has a filter stage: XPIC or FMPM of order 2 or more (order 1 is PIC, bitwise).
   bool filter_stage() const {
     return (kind == TransferKind::xpic || kind == TransferKind::fmpm) && order > 1;
+  }
+  const char* filter_name() const { return kind == TransferKind::xpic ? "xpic" : "fmpm"; }
+  // XPIC's G2P takes the filter stage's V*_m + a dt as the grid velocity of the update (FMPM
+  // leaves v_F in the momentum arrays instead).
+  bool filtered_target(bool filtering) const {
+    return kind == TransferKind::xpic && filter_stage() && filtering;
   }
   // Periodic filtering (the PeriodicXPIC custom task of NairnMPM/OSParticulas: FLIP on most
   // steps, the XPIC(k) or FMPM(k) update every N-th): the step that leaves Clock::step = n + 1

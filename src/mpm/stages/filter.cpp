@@ -145,7 +145,7 @@ void fmpm(State& s) {
 template <class Shape>
 Stage filter_stage(State& s) {
   const bool is_xpic = s.transfer.kind == TransferKind::xpic;
-  return {is_xpic ? "xpic" : "fmpm",
+  return {s.transfer.filter_name(),
           {kGeometry | FieldSet{Field::mass}, kBlocks | kClock},
           {{}, kGrid},
           [&s, is_xpic] {

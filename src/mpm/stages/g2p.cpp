@@ -19,7 +19,7 @@ void g2p(State& s) {
   in.dt_position = s.dt_step;
   // The share of the filtered grid velocity in the particle update (TransferPolicy).
   in.pic_fraction = s.transfer.filtered_share(s.filtering);
-  if (s.transfer.kind == TransferKind::xpic && s.transfer.filter_stage() && s.filtering) {
+  if (s.transfer.filtered_target(s.filtering)) {
     in.fvx = s.filter.target[0].data();
     in.fvy = s.filter.target[1].data();
     in.fvz = s.filter.target[2].data();

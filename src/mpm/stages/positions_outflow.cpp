@@ -52,7 +52,6 @@ void outflow(State& s) {
                 m[p] * (g.x() * x[p] + g.y() * y[p] + g.z() * z[p]));
   }
   if (std::find(leaving.begin(), leaving.end(), std::uint8_t{1}) == leaving.end()) return;
-  s.journal.removing(P, leaving);
   P.remove_if(leaving);
   // On several ranks one rank may lose all its particles; finish_step checks the total.
   if (P.size() == 0 && !s.dist()) {

@@ -26,7 +26,6 @@ void reorder(State& s) {
         [&](std::uint32_t a, std::uint32_t b) { return s.owner_keys[a] < s.owner_keys[b]; });
   }
   P.permute(s.order);
-  s.journal.permuted();
   std::vector<std::uint64_t> sorted(n);
   for (std::size_t k = 0; k < n; ++k) sorted[k] = s.owner_keys[s.order[k]];
   s.owner_keys.swap(sorted);

@@ -86,9 +86,8 @@ void migrate(mpm::State& s) {
   // Arrivals go to the end of their group; their place in the store changes no sum (the order
   // inside a block is by id, the energy sums are exact).
   if (!moved) return;
-  ParticleStore merged = merge_particles(P, keep, received);
-  s.journal.replacing(P);
-  P = std::move(merged);
+  // (the step retake's journal, attached to the store, keeps the store at t^n)
+  P.replace(merge_particles(P, keep, received));
 }
 
 }  // namespace
