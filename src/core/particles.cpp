@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -88,10 +89,20 @@ void ParticleStore::permute(std::span<const std::uint32_t> order) {
     for (std::size_t k = 0; k < size_; ++k) iscratch_[k] = src[order[k]];
     icols_[i].swap(iscratch_);
   }
+  if (journal_.to != nullptr) journal_.to->permuted(order);
+}
+
+void ParticleStore::replace(ParticleStore&& next) {
+  if (journal_.to != nullptr) journal_.to->replacing(*this);
+  *this = std::move(next);
 }
 
 std::size_t ParticleStore::remove_if(std::span<const std::uint8_t> flags) {
   if (flags.size() != size_) throw std::logic_error("removal mask size differs from store size");
+  if (journal_.to != nullptr &&
+      std::any_of(flags.begin(), flags.end(), [](std::uint8_t f) { return f != 0; })) {
+    journal_.to->removing(*this, flags);
+  }
   std::vector<std::uint32_t> keep;
   keep.reserve(size_);
   for (auto& g : groups_) {

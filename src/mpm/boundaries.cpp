@@ -14,6 +14,80 @@ namespace {
 
 constexpr const char* kFaceNames[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
 
+// The node arrays a mirror pass touches (mirror_impl).
+struct MirrorArrays {
+  double* mom[3];
+  double* force[3];
+  // Mass gradients of body copies (contact normals): mass is even under the mirror, so the
+  // normal component of its gradient is odd, the tangential ones even.
+  double* grad[3];
+  std::size_t g0;  // first body-copy node (the gradients are indexed from there)
+  bool force_too;  // mass and force mirrored as well as momentum
+  bool grads;      // the body copies' mass gradients too
+};
+
+MirrorArrays mirror_arrays(SparseGrid& grid, Boundaries::MirrorMode mode) {
+  auto& N = grid.nodes();
+  const bool force_too = mode == Boundaries::kMassMomentumForce;
+  return {{N.px.data(), N.py.data(), N.pz.data()},
+          {N.fx.data(), N.fy.data(), N.fz.data()},
+          {N.gx.data(), N.gy.data(), N.gz.data()},
+          grid.shared_blocks() * SparseGrid::kBlockNodes,
+          force_too,
+          force_too && grid.has_copies()};
+}
+
+// Visits the ghost nodes within a stencil's reach (3 nodes) of plane pl together with their
+// partner nodes: pass(ghost, partner), global node indices. On a symmetry plane the mirror
+// cancels the normal component; a ghost whose partner no particle reaches has nothing to mirror,
+// and beyond a fixed wall the image of empty space is at rest.
+template <class Pass>
+void for_ghosts(const SparseGrid& grid, const Boundaries::Plane& pl, const MirrorArrays& a,
+                Pass&& pass) {
+  constexpr int B = SparseGrid::kBlock;
+  const bool fixed = pl.kind == BoundaryKind::fixed;
+  for (std::uint32_t b = 0; b < grid.blocks(); ++b) {
+    if (grid.meets(b)) continue;  // its field lives in the body copies
+    const SparseGrid::Coord c = grid.coord(b);
+    const std::int64_t bc[3] = {c.x, c.y, c.z};
+    const std::int64_t lo = bc[pl.axis] * B;
+    if (lo + B - 1 < pl.index - 3 || lo > pl.index + 3) continue;
+    for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
+      const int loc[3] = {l / (B * B), (l / B) % B, l % B};
+      std::int64_t g[3];
+      for (int d = 0; d < 3; ++d) g[d] = bc[d] * B + loc[d];
+      const std::int64_t i = g[pl.axis];
+      const bool ghost = pl.side < 0 ? i < pl.index : i > pl.index;
+      const std::size_t node =
+          std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
+      if (i == pl.index && !fixed) {
+        // On the plane the mirror cancels the normal component.
+        a.mom[pl.axis][node] = 0.0;
+        if (a.force_too) a.force[pl.axis][node] = 0.0;
+        if (a.grads && node >= a.g0) a.grad[pl.axis][node - a.g0] = 0.0;
+        continue;
+      }
+      if (!ghost || std::abs(i - pl.index) > 3) continue;
+      std::int64_t q[3] = {g[0], g[1], g[2]};
+      q[pl.axis] = 2 * pl.index - i;
+      // The partner in the same velocity field (the same body's copy where bodies meet).
+      const std::int64_t pb = grid.find_like(b, SparseGrid::key(q[0] >> 2, q[1] >> 2, q[2] >> 2));
+      if (pb < 0) {
+        if (fixed) {
+          a.mom[0][node] = a.mom[1][node] = a.mom[2][node] = 0.0;
+          if (a.force_too) a.force[0][node] = a.force[1][node] = a.force[2][node] = 0.0;
+        }
+        continue;
+      }
+      const std::size_t partner =
+          static_cast<std::size_t>(pb) * SparseGrid::kBlockNodes +
+          static_cast<std::size_t>(SparseGrid::local(
+              static_cast<int>(q[0] & 3), static_cast<int>(q[1] & 3), static_cast<int>(q[2] & 3)));
+      pass(node, partner);
+    }
+  }
+}
+
 }  // namespace
 
 Boundaries::Boundaries(const Domain& domain, double cell_size) : domain_(domain) {
@@ -86,7 +160,6 @@ void Boundaries::mirror(SparseGrid& grid, MirrorMode mode) const {
 
 void Boundaries::mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const {
   auto& N = grid.nodes();
-  constexpr int B = SparseGrid::kBlock;
   for (int k = 0; k < count_; ++k) {
     const Plane& pl = planes_[static_cast<std::size_t>(k)];
     if (pl.kind != BoundaryKind::symmetry && pl.kind != BoundaryKind::fixed) continue;
@@ -97,83 +170,28 @@ void Boundaries::mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const
     // at the wall and makes the quadratic B-spline first order (docs/verification.md).
     const bool fixed = pl.kind == BoundaryKind::fixed;
     auto sign = [&](int d) { return fixed || d == pl.axis ? -1.0 : 1.0; };
-    double* mom[3] = {N.px.data(), N.py.data(), N.pz.data()};
-    double* force[3] = {N.fx.data(), N.fy.data(), N.fz.data()};
-    // Mass gradients of body copies (contact normals): mass is even under the mirror, so the
-    // normal component of its gradient is odd, the tangential ones even.
-    double* grad[3] = {N.gx.data(), N.gy.data(), N.gz.data()};
-    const std::size_t g0 = grid.shared_blocks() * SparseGrid::kBlockNodes;
-    const bool grads = mode == kMassMomentumForce && grid.has_copies();
+    const MirrorArrays a = mirror_arrays(grid, mode);
     auto gsign = [&](int d) { return d == pl.axis ? -1.0 : 1.0; };
-    // Visits the ghost nodes within a stencil's reach (3 nodes) of the plane together with
-    // their partner nodes; the pass functor gets (ghost, partner) global node indices.
-    auto for_ghosts = [&](auto&& pass) {
-      for (std::uint32_t b = 0; b < grid.blocks(); ++b) {
-        if (grid.meets(b)) continue;  // its field lives in the body copies
-        const SparseGrid::Coord c = grid.coord(b);
-        const std::int64_t bc[3] = {c.x, c.y, c.z};
-        const std::int64_t lo = bc[pl.axis] * B;
-        if (lo + B - 1 < pl.index - 3 || lo > pl.index + 3) continue;
-        for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
-          const int loc[3] = {l / (B * B), (l / B) % B, l % B};
-          std::int64_t g[3];
-          for (int d = 0; d < 3; ++d) g[d] = bc[d] * B + loc[d];
-          const std::int64_t i = g[pl.axis];
-          const bool ghost = pl.side < 0 ? i < pl.index : i > pl.index;
-          const std::size_t node =
-              std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
-          if (i == pl.index && !fixed) {
-            // On the plane the mirror cancels the normal component.
-            mom[pl.axis][node] = 0.0;
-            if (mode == kMassMomentumForce) force[pl.axis][node] = 0.0;
-            if (grads && node >= g0) grad[pl.axis][node - g0] = 0.0;
-            continue;
-          }
-          if (!ghost || std::abs(i - pl.index) > 3) continue;
-          std::int64_t q[3] = {g[0], g[1], g[2]};
-          q[pl.axis] = 2 * pl.index - i;
-          // The partner in the same velocity field (the same body's copy where bodies meet).
-          const std::int64_t pb =
-              grid.find_like(b, SparseGrid::key(q[0] >> 2, q[1] >> 2, q[2] >> 2));
-          if (pb < 0) {
-            // No particle reaches the partner: nothing to mirror, and beyond a fixed wall the
-            // image of empty space is at rest.
-            if (fixed) {
-              mom[0][node] = mom[1][node] = mom[2][node] = 0.0;
-              if (mode == kMassMomentumForce) {
-                force[0][node] = force[1][node] = force[2][node] = 0.0;
-              }
-            }
-            continue;
-          }
-          const std::size_t partner = static_cast<std::size_t>(pb) * SparseGrid::kBlockNodes +
-                                      static_cast<std::size_t>(SparseGrid::local(
-                                          static_cast<int>(q[0] & 3), static_cast<int>(q[1] & 3),
-                                          static_cast<int>(q[2] & 3)));
-          pass(node, partner);
-        }
-      }
-    };
     // Fold: what the mirror images would add to the partner nodes.
     if (fold)
-      for_ghosts([&](std::size_t ghost, std::size_t partner) {
-        if (mode == kMassMomentumForce) N.mass[partner] += N.mass[ghost];
+      for_ghosts(grid, pl, a, [&](std::size_t ghost, std::size_t partner) {
+        if (a.force_too) N.mass[partner] += N.mass[ghost];
         for (int d = 0; d < 3; ++d) {
-          mom[d][partner] += sign(d) * mom[d][ghost];
-          if (mode == kMassMomentumForce) force[d][partner] += sign(d) * force[d][ghost];
-          if (grads && ghost >= g0 && partner >= g0) {
-            grad[d][partner - g0] += gsign(d) * grad[d][ghost - g0];
+          a.mom[d][partner] += sign(d) * a.mom[d][ghost];
+          if (a.force_too) a.force[d][partner] += sign(d) * a.force[d][ghost];
+          if (a.grads && ghost >= a.g0 && partner >= a.g0) {
+            a.grad[d][partner - a.g0] += gsign(d) * a.grad[d][ghost - a.g0];
           }
         }
       });
     // Ghosts become the mirror image of the completed field.
-    for_ghosts([&](std::size_t ghost, std::size_t partner) {
-      if (mode == kMassMomentumForce) N.mass[ghost] = N.mass[partner];
+    for_ghosts(grid, pl, a, [&](std::size_t ghost, std::size_t partner) {
+      if (a.force_too) N.mass[ghost] = N.mass[partner];
       for (int d = 0; d < 3; ++d) {
-        mom[d][ghost] = sign(d) * mom[d][partner];
-        if (mode == kMassMomentumForce) force[d][ghost] = sign(d) * force[d][partner];
-        if (grads && ghost >= g0 && partner >= g0) {
-          grad[d][ghost - g0] = gsign(d) * grad[d][partner - g0];
+        a.mom[d][ghost] = sign(d) * a.mom[d][partner];
+        if (a.force_too) a.force[d][ghost] = sign(d) * a.force[d][partner];
+        if (a.grads && ghost >= a.g0 && partner >= a.g0) {
+          a.grad[d][ghost - a.g0] = gsign(d) * a.grad[d][partner - a.g0];
         }
       }
     });

@@ -46,12 +46,19 @@ void read_solver(Reader& root, Scene& scene) {
   c.shape = shape == "linear"  ? ShapeKind::linear
             : shape == "ugimp" ? ShapeKind::ugimp
                                : ShapeKind::bspline2;
-  // flip: the paper's MUSL step; apic: affine PIC (see TransferKind in engine/config.hpp).
+  // flip: the paper's MUSL step; apic: affine PIC (see TransferKind in shatter/core/config.hpp).
   const std::string transfer = r.choice("transfer", "flip", kTransfers);
   c.transfer = transfer == "flip"   ? TransferKind::flip
                : transfer == "apic" ? TransferKind::apic
                : transfer == "xpic" ? TransferKind::xpic
                                     : TransferKind::fmpm;
+  if (c.transfer == TransferKind::apic && c.shape == ShapeKind::linear) {
+    // C_p = sum v_I grad N_I^T jumps when a point crosses a cell face with linear shapes; the
+    // colliding-sphere test diverges within 50 steps. Jiang et al. (2015) use smooth kernels.
+    r.fail("transfer",
+           "\"apic\" needs a smooth shape function (solver.shape = \"ugimp\" or "
+           "\"bspline2\"), not \"linear\"");
+  }
   // FLIP/PIC blend fraction (flip only) and XPIC order (xpic only); TransferKind says what each
   // does. The blend is read only when given, so scenes without it resolve as before.
   r.note_range("pic_fraction", "[0, 1]; flip only; absent = 0 (pure FLIP)");

@@ -35,6 +35,22 @@ struct Group {
   int material = 0;  // index into the simulation's material list
 };
 
+class ParticleStore;
+
+// Told of every change to a store's layout while attached to it (ParticleStore::attach): a
+// re-order, a removal, a replacement. The MPM step retake keeps one (src/mpm/retake.hpp), so
+// that a retaken step undoes what the attempt did, and no stage holds retake code.
+class LayoutJournal {
+ public:
+  virtual ~LayoutJournal() = default;
+  // After permute(order).
+  virtual void permuted(std::span<const std::uint32_t> order) = 0;
+  // Before remove_if(flags) removes at least one particle.
+  virtual void removing(const ParticleStore& store, std::span<const std::uint8_t> flags) = 0;
+  // Before replace(): the store as it is; the journal may move from it.
+  virtual void replacing(ParticleStore& before) = 0;
+};
+
 class ParticleStore {
  public:
   // Registers a column (zero-filled at the current size). Registering twice is harmless.
@@ -66,7 +82,21 @@ class ParticleStore {
   // grouping (groups shrink). Returns how many were removed.
   std::size_t remove_if(std::span<const std::uint8_t> flags);
 
+  // Replaces the whole store by `next` (particle migration), telling the journal first.
+  void replace(ParticleStore&& next);
+
+  // Attaches a layout journal (nullptr: none). The attachment belongs to this store object:
+  // copies and assignments neither carry it to another store nor drop it from this one.
+  void attach(LayoutJournal* journal) { journal_.to = journal; }
+
  private:
+  struct Attached {
+    LayoutJournal* to = nullptr;
+    Attached() = default;
+    Attached(const Attached&) {}
+    Attached& operator=(const Attached&) { return *this; }
+  };
+
   static constexpr std::size_t index(Field f) { return static_cast<std::size_t>(f); }
   static constexpr std::size_t index(IField f) { return static_cast<std::size_t>(f); }
   void resize(std::size_t n);
@@ -79,6 +109,7 @@ class ParticleStore {
   std::vector<Group> groups_;
   AlignedVector<double> scratch_;
   AlignedVector<std::int64_t> iscratch_;
+  Attached journal_;
 };
 
 // Typed access for a stage that declared the fields it reads (R) and writes (W). Asking for a

@@ -16,6 +16,9 @@
 #include "shatter/parallel/comm.hpp"
 
 namespace shatter {
+namespace mpm {
+struct State;  // src/mpm/state.hpp
+}
 
 class Simulation final : public Solver {
  public:
@@ -53,6 +56,10 @@ class Simulation final : public Solver {
   // Total nodal mass of the last step's grid (Eq. 32); equals the particle mass to round-off.
   double grid_mass() const;
   const std::vector<StageTiming>& stage_timings() const override;
+  // The step's stages in list order (src/mpm/step.cpp), as this scene builds them: the
+  // transfer's filter and remap, the outflow, and the exchanges of a run on several ranks
+  // included. What `shatter check SCENE --stages` prints.
+  std::vector<std::string> stage_names() const;
   // Distributed runs (docs/mpi.md): this rank's traffic in the halo exchanges and in particle
   // migration since the start, and how often the curve was recut for load balance.
   parallel::Traffic halo_traffic() const;
@@ -74,7 +81,6 @@ class Simulation final : public Solver {
   double internal_next() const override;
 
  private:
-  struct Impl;
   SolverConfig config_;
   ParticleStore particles_;
   std::vector<MaterialPtr> materials_;
@@ -82,7 +88,7 @@ class Simulation final : public Solver {
   Clock clock_;
   EnergyBudget energy_;
   std::uint64_t retakes_ = 0;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<mpm::State> state_;  // the step's state; references the members above
 };
 
 }  // namespace shatter

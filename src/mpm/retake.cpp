@@ -1,0 +1,145 @@
+#include "mpm/retake.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include <tbb/parallel_for.h>
+
+#include "mpm/state.hpp"
+
+namespace shatter::mpm {
+namespace {
+
+// Copies n values of `columns` columns in parallel chunks: copy(column, begin, end).
+template <class Copy>
+void copy_columns(std::size_t columns, std::size_t n, Copy&& copy) {
+  constexpr std::size_t kGrain = 16384;  // 128 KiB of doubles
+  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, columns * chunks),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t c = k / chunks, b = (k % chunks) * kGrain;
+                        copy(c, b, std::min(b + kGrain, n));
+                      }
+                    });
+}
+
+}  // namespace
+
+bool Journal::saves(const ParticleStore& P, Field f) const {
+  return P.has(f) && !kStepConstant.has(f) && !kStepLocal.has(f);
+}
+
+void Journal::save(const State& s) {
+  const ParticleStore& P = s.particles;
+  const std::size_t n = P.size();
+  fields_.clear();
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    if (saves(P, static_cast<Field>(i))) fields_.push_back(static_cast<Field>(i));
+  }
+  cols_.resize(fields_.size());
+  for (auto& c : cols_) c.resize(n);  // reuses the buffers of the last step
+  copy_columns(fields_.size(), n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    const double* src = P.col(fields_[c]).data();
+    std::copy(src + b, src + e, cols_[c].data() + b);
+  });
+  groups_ = P.groups();
+  clock_ = s.clock;
+  energy_ = s.energy;
+  internal_next_ = s.internal_next;
+}
+
+void Journal::begin_attempt(ParticleStore& P, bool may_retake) {
+  P.attach(may_retake ? this : nullptr);
+  order_.clear();
+  whole_ = false;
+  left_.clear();
+}
+
+void Journal::end_step(ParticleStore& P) {
+  P.attach(nullptr);
+  store_ = ParticleStore{};  // a store migration replaced is freed, as it was before
+}
+
+void Journal::permuted(std::span<const std::uint32_t> order) {
+  order_.assign(order.begin(), order.end());
+}
+
+void Journal::restore(State& s) {
+  ParticleStore& P = s.particles;
+  P.attach(nullptr);  // the undoing is not an attempt's change
+  if (whole_) {
+    P = store_;  // taken before migration moved anything: the store at t^n
+  } else {
+    // Undo in the reverse order of the step: the outflow removal, then the re-order.
+    if (!left_.empty()) undo_outflow(P);
+    if (!order_.empty()) {
+      std::vector<std::uint32_t> inverse(order_.size());
+      for (std::size_t k = 0; k < order_.size(); ++k)
+        inverse[order_[k]] = static_cast<std::uint32_t>(k);
+      P.permute(inverse);
+    }
+    copy_columns(fields_.size(), P.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
+      const double* src = cols_[c].data();
+      std::copy(src + b, src + e, P.col(fields_[c]).data() + b);
+    });
+  }
+  s.clock = clock_;
+  s.energy = energy_;
+  s.internal_next = internal_next_;
+}
+
+void Journal::removing(const ParticleStore& P, std::span<const std::uint8_t> leaving) {
+  if (whole_) return;  // the store at t^n is kept whole
+  left_.assign(leaving.begin(), leaving.end());
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    left_rows_[i].clear();
+    if (!P.has(f) || saves(P, f)) continue;
+    const auto c = P.col(f);
+    for (std::size_t p = 0; p < leaving.size(); ++p) {
+      if (leaving[p]) left_rows_[i].push_back(c[p]);
+    }
+  }
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    const auto f = static_cast<IField>(i);
+    left_irows_[i].clear();
+    if (!P.has(f)) continue;
+    const auto c = P.col(f);
+    for (std::size_t p = 0; p < leaving.size(); ++p) {
+      if (leaving[p]) left_irows_[i].push_back(c[p]);
+    }
+  }
+}
+
+void Journal::replacing(ParticleStore& before) {
+  store_ = std::move(before);  // the store at t^n, for a retake; kept rather than freed
+  whole_ = true;
+}
+
+// The store as it was before outflow's removal (the columns restore copies back are left zero
+// here): the departed particles' rows merged back in their places.
+void Journal::undo_outflow(ParticleStore& P) const {
+  const std::vector<std::uint8_t>& left = left_;
+  ParticleStore B;
+  B.require(P.registered());
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    if (P.has(static_cast<IField>(i))) B.require(static_cast<IField>(i));
+  }
+  for (const Group& g : groups_) B.add_group(g.material, g.range.size());
+  const auto merge = [&](auto dst, auto src, const auto& rows) {
+    std::size_t k = 0, j = 0;
+    for (std::size_t p = 0; p < left.size(); ++p) dst[p] = left[p] ? rows[j++] : src[k++];
+  };
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    if (P.has(f) && !saves(P, f)) merge(B.col(f), std::as_const(P).col(f), left_rows_[i]);
+  }
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    const auto f = static_cast<IField>(i);
+    if (P.has(f)) merge(B.col(f), std::as_const(P).col(f), left_irows_[i]);
+  }
+  P = std::move(B);
+}
+
+}  // namespace shatter::mpm

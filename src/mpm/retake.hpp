@@ -1,0 +1,74 @@
+#pragma once
+// The step retake (Simulation::step): the state before the step being taken, to take it again,
+// and a journal of what the attempt under way did to the store's layout (re-order, outflow,
+// migration), which the restore undoes. The store itself tells the journal of each change
+// (LayoutJournal), so the stages hold no retake code.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "shatter/core/energy.hpp"
+#include "shatter/core/fields.hpp"
+#include "shatter/core/particles.hpp"
+#include "shatter/core/solver.hpp"
+
+namespace shatter::mpm {
+
+struct State;
+
+// What the step retake need not save. Constant: no stage writes these columns (mass, reference
+// volume and size of the material point, and its flaw population: the damage models read
+// eps_min, eps_max, n_flaws and weibull_m and store them back unchanged), nor the integer
+// columns (id, body, fragment). Step-local: each step writes them for every particle before
+// any stage reads them: the strain and spin increments (the velocity-gradient stage, App. A.2
+// step 7, before the constitutive update reads them), and pressure and sound speed, which
+// MaterialModel::update sets for step n+1 from the rest of the state (its contract; the
+// time-step and energy stages read them after it). Every other registered column is saved, so
+// a column added later is saved unless it is listed here.
+constexpr FieldSet kStepConstant{Field::mass,    Field::volume0, Field::size0,    Field::eps_min,
+                                 Field::eps_max, Field::n_flaws, Field::weibull_m};
+constexpr FieldSet kStepLocal =
+    kStrainIncrement | kSpinIncrement | FieldSet{Field::pressure, Field::soundspeed};
+
+class Journal final : public LayoutJournal {
+ public:
+  // Before the first attempt: the columns the step writes, the groups, clock and accounts.
+  void save(const State& s);
+  // Before each attempt: when it may be retaken, the journal attaches to the store and records
+  // the layout changes the stages make (ParticleStore tells it).
+  void begin_attempt(ParticleStore& P, bool may_retake);
+  // The state at t^n again, with every layout change of the attempt undone.
+  void restore(State& s);
+  // After the last attempt: detached; a store migration replaced is freed.
+  void end_step(ParticleStore& P);
+
+  // LayoutJournal: the sort stage's re-order, outflow's removal, migration's replacement.
+  void permuted(std::span<const std::uint32_t> order) override;
+  void removing(const ParticleStore& P, std::span<const std::uint8_t> leaving) override;
+  void replacing(ParticleStore& before) override;
+
+  StageTiming timing{"retake_copy", 0.0};  // wall time of the saves and restores
+
+ private:
+  bool saves(const ParticleStore& P, Field f) const;
+  void undo_outflow(ParticleStore& P) const;
+
+  std::vector<Field> fields_;                // registered columns the step writes
+  std::vector<AlignedVector<double>> cols_;  // their values at t^n, in the order of `fields_`
+  std::vector<Group> groups_;                // the groups at t^n
+  Clock clock_;
+  EnergyBudget energy_;
+  double internal_next_ = 0.0;
+  std::vector<std::uint32_t> order_;  // the sort stage's re-order (empty: none)
+  // Outflow removed the particles flagged here (over the store before the removal; empty:
+  // none); their unsaved columns, in store order.
+  std::vector<std::uint8_t> left_;
+  std::array<std::vector<double>, kFieldCount> left_rows_;
+  std::array<std::vector<std::int64_t>, kIFieldCount> left_irows_;
+  bool whole_ = false;   // migration moved particles; `store_` is the whole store at t^n
+  ParticleStore store_;  // (the store migration replaced, moved here rather than freed)
+};
+
+}  // namespace shatter::mpm

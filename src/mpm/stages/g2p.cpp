@@ -1,0 +1,64 @@
+// App. A.2 step 5: particle velocities and displacements from the grid (leapfrog), and each
+// particle's mechanical energy at t^n for the energy stage.
+
+#include "mpm/kernel_inputs.hpp"
+#include "mpm/loops.hpp"
+#include "mpm/stages/stages.hpp"
+#include "mpm/state.hpp"
+
+namespace shatter::mpm {
+namespace {
+
+template <class Shape>
+void g2p(State& s) {
+  ParticleStore& P = s.particles;
+  Scratch& sc = s.scratch;
+  kernels::G2PParticles in = g2p_inputs(P, s.inv_h(), sc.dx.data(), sc.dy.data(), sc.dz.data());
+  in.stencil = s.stencils(kernels::StencilCache::kLoad);
+  in.dt_velocity = 0.5 * (s.clock.dt_prev + s.dt_step);
+  in.dt_position = s.dt_step;
+  // The share of the filtered grid velocity in the particle update (TransferPolicy).
+  in.pic_fraction = s.transfer.filtered_share(s.filtering);
+  if (s.transfer.filtered_target(s.filtering)) {
+    in.fvx = s.filter.target[0].data();
+    in.fvy = s.filter.target[1].data();
+    in.fvz = s.filter.target[2].data();
+  }
+  const double* mass = P.col(Field::mass).data();
+  const double half_dt_prev = 0.5 * s.clock.dt_prev;
+  const Vec3 g = s.config.gravity;
+  // Velocity at t^n, v^{n-1/2} + a dt^{n-1/2}/2, makes the kinetic energy time-centred with
+  // the internal energy (second-order energy error).
+  const double w = in.dt_velocity > 0 ? half_dt_prev / in.dt_velocity : 0.0;
+  const auto energies = [&](std::size_t p, const double(&v0)[3]) {
+    const double vn[3] = {v0[0] + w * (in.vx[p] - v0[0]), v0[1] + w * (in.vy[p] - v0[1]),
+                          v0[2] + w * (in.vz[p] - v0[2])};
+    sc.kinetic[p] = 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
+    sc.kinetic_transferred[p] = 0.5 * mass[p] * (v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]);
+    sc.potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
+  };
+  for_each_run<kernels::G2PWindow>(
+      s.grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
+                  const std::uint32_t* nb, kernels::G2PWindow& win) {
+        kernels::g2p_block<Shape>(in, run, owner, nb, s.grid.nodes(), win, energies);
+      });
+  if (s.driven) {
+    s.driven->set_particles(P, sc.dx.data(), sc.dy.data(), sc.dz.data(), sc.kinetic.data(),
+                            s.dt_step);
+  }
+}
+
+}  // namespace
+
+template <class Shape>
+Stage g2p_stage(State& s) {
+  return {"g2p",
+          {kGeometry | FieldSet{Field::mass}, kGrid | kBlocks | kClock},
+          {kVelocity, kDisplacement | kMechanical},
+          [&s] { g2p<Shape>(s); }};
+}
+
+#define SHATTER_INSTANTIATE(S) template Stage g2p_stage<S>(State & s);
+SHATTER_FOR_EACH_SHAPE(SHATTER_INSTANTIATE)
+
+}  // namespace shatter::mpm

@@ -1,0 +1,113 @@
+// App. A.2 step 1: particles sorted by grid block, and each particle's stencil at x^n.
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "mpm/loops.hpp"
+#include "mpm/stages/stages.hpp"
+#include "mpm/state.hpp"
+#include "parallel/mpm/exchanges.hpp"
+
+namespace shatter::mpm {
+namespace {
+
+// Physically re-orders each material group by block key (stable, so deterministic): the
+// scatter and gather then stream through memory.
+void reorder(State& s) {
+  ParticleStore& P = s.particles;
+  const std::size_t n = P.size();
+  s.order.resize(n);
+  std::iota(s.order.begin(), s.order.end(), 0U);
+  for (const Group& g : P.groups()) {
+    std::stable_sort(
+        s.order.begin() + static_cast<std::ptrdiff_t>(g.range.begin),
+        s.order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
+        [&](std::uint32_t a, std::uint32_t b) { return s.owner_keys[a] < s.owner_keys[b]; });
+  }
+  P.permute(s.order);
+  std::vector<std::uint64_t> sorted(n);
+  for (std::size_t k = 0; k < n; ++k) sorted[k] = s.owner_keys[s.order[k]];
+  s.owner_keys.swap(sorted);
+}
+
+template <class Shape>
+void sort(State& s) {
+  ParticleStore& P = s.particles;
+  const std::size_t n = P.size();
+  s.owner_keys.resize(n);
+  Scratch& sc = s.scratch;
+  for (auto* v : {&sc.dx, &sc.dy, &sc.dz, &sc.kinetic, &sc.potential, &sc.kinetic_transferred})
+    v->resize(n);
+  s.stencil_w.resize(n * kernels::Stencil<Shape>::kRow);
+  s.stencil_off.resize(n);
+
+  compute_keys<Shape>(s);
+  check_finite(s);
+
+  const unsigned every = s.config.reorder_interval;
+  if (every > 0 && s.clock.step % every == 0) reorder(s);
+  // The particle ids make the order inside each block canonical (SparseGrid::assign).
+  const auto ids = P.col(IField::id);
+  bool rebuilt = false;
+  if (s.contact) {
+    const auto body = P.col(IField::body);
+    rebuilt = s.grid.assign(s.owner_keys, {body.data(), body.size()}, {ids.data(), ids.size()});
+  } else {
+    rebuilt = s.grid.assign(s.owner_keys, {}, {ids.data(), ids.size()});
+  }
+  if (s.dist() && (rebuilt || s.ranks.plan_version != s.ranks.decomp_version)) {
+    parallel::build_halo_plan(s);
+  }
+  const double ih = s.inv_h();
+  // Each particle's stencil at x^n, read by every transfer of the step (P2G, G2P, remap,
+  // velocity gradient: kernels::StencilCache).
+  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  const double* size0 = P.col(Field::size0).data();
+  const kernels::StencilCache cache = s.stencils(kernels::StencilCache::kStore);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
+                    });
+  if (s.driven) s.driven->scatter<Shape>(P, s.grid, s.stencils(kernels::StencilCache::kLoad), ih);
+}
+
+}  // namespace
+
+template <class Shape>
+void compute_keys(State& s) {
+  ParticleStore& P = s.particles;
+  const std::size_t n = P.size();
+  s.owner_keys.resize(n);
+  const double ih = s.inv_h();
+  // First stencil node: floor(xi) for 2-wide stencils, floor(xi - 1/2) for 3-wide ones.
+  const double shift = Shape::kWidth == 3 ? 0.5 : 0.0;
+  const double limit = static_cast<double>(SparseGrid::kMaxBlockCoord * SparseGrid::kBlock);
+  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                        std::int64_t b[3];
+                        for (int d = 0; d < 3; ++d) {
+                          const double xi = X[d][p] * ih - shift;
+                          // Out-of-range (or NaN) positions are caught by check_finite;
+                          // clamp so the key stays defined meanwhile.
+                          const double c = std::isfinite(xi) ? std::clamp(xi, -limit, limit) : 0.0;
+                          b[d] = static_cast<std::int64_t>(std::floor(c)) >> SparseGrid::kBlockBits;
+                        }
+                        s.owner_keys[p] = SparseGrid::key(b[0], b[1], b[2]);
+                      }
+                    });
+}
+
+template <class Shape>
+Stage sort_stage(State& s) {
+  return {"sort", {kGeometry, kClock}, {all_fields(), kBlocks}, [&s] { sort<Shape>(s); }};
+}
+
+#define SHATTER_INSTANTIATE(S)              \
+  template void compute_keys<S>(State & s); \
+  template Stage sort_stage<S>(State & s);
+SHATTER_FOR_EACH_SHAPE(SHATTER_INSTANTIATE)
+
+}  // namespace shatter::mpm

@@ -1,0 +1,152 @@
+// The clock advances by the step taken, and this rank's max_p (c_p + |v_p|) is kept for the
+// next time step (Eq. 34), which finish_step sets from every rank's; the finite-state check.
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "mpm/loops.hpp"
+#include "mpm/stages/stages.hpp"
+#include "mpm/state.hpp"
+
+namespace shatter::mpm {
+namespace {
+
+// What check_finite reads.
+constexpr Field kChecked[] = {Field::x,   Field::y,   Field::z,   Field::vx,     Field::vy,
+                              Field::vz,  Field::sxx, Field::syy, Field::szz,    Field::sxy,
+                              Field::syz, Field::sxz, Field::rho, Field::energy, Field::soundspeed};
+constexpr FieldSet kCheckedSet =
+    kPosition | kVelocity | kStress | FieldSet{Field::rho, Field::energy, Field::soundspeed};
+
+// The first particle in [r.begin(), min(r.end(), found)) with a non-finite checked column, or
+// `found`. A value is not finite when its exponent bits are all set (IEEE 754). OR-ing that
+// test over the chunk has no branch per element and vectorises; the search for the first
+// offender runs only in a chunk that has one (rare: the run is about to stop).
+std::size_t first_bad(const ParticleStore& P, const tbb::blocked_range<std::size_t>& r,
+                      std::size_t found) {
+  constexpr std::uint64_t kExponent = 0x7ff0000000000000ULL;
+  std::uint64_t any = 0;
+  for (const Field f : kChecked) {
+    const double* c = P.col(f).data();
+    for (std::size_t p = r.begin(); p < r.end(); ++p) {
+      any |=
+          static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(c[p]) & kExponent) == kExponent);
+    }
+  }
+  if (any == 0) return found;
+  for (const Field f : kChecked) {
+    const auto c = P.col(f);
+    for (std::size_t p = r.begin(); p < std::min(r.end(), found); ++p) {
+      if (!std::isfinite(c[p])) {
+        found = p;
+        break;
+      }
+    }
+  }
+  return found;
+}
+
+void inject_fault(State& s) {
+  const Fault& f = s.fault;
+  if (f.kind == 0 || f.rank != s.ranks.comm.rank() || f.step != s.clock.step + 1) return;
+  if (f.kind == 2) {
+    throw std::runtime_error(
+        fmt::format("injected fault (SHATTER_FAULT_INJECT) at step {}", f.step));
+  }
+  if (s.particles.size() > 0) s.particles.col(Field::vx)[0] = std::nan("");
+}
+
+void time_step(State& s) {
+  inject_fault(s);
+  if (s.dist()) {
+    // A failure is decided for all ranks at once in finish_step, so that no rank waits for one
+    // that left.
+    try {
+      check_finite(s);
+    } catch (const NumericalError& e) {
+      s.sums.failure = fmt::format("rank {}: {}", s.ranks.comm.rank(), e.what());
+      s.sums.failure_particle = e.particle();
+    }
+  } else {
+    check_finite(s);
+  }
+  Clock& clk = s.clock;
+  clk.time += s.dt_step;
+  clk.dt_prev = s.dt_step;
+  ++clk.step;
+  s.sums.fastest = fastest_local(s);
+}
+
+}  // namespace
+
+Fault Fault::from_environment() {
+  Fault f;
+  const char* env = std::getenv("SHATTER_FAULT_INJECT");
+  if (env == nullptr) return f;
+  const std::string v(env);
+  const auto a = v.find(':'), b = v.rfind(':');
+  if (a == std::string::npos || a == b) return f;
+  const std::string kind = v.substr(0, a);
+  f.kind = kind == "nan" ? 1 : kind == "throw" ? 2 : 0;
+  f.rank = std::atoi(v.substr(a + 1, b - a - 1).c_str());
+  f.step = std::strtoull(v.substr(b + 1).c_str(), nullptr, 10);
+  return f;
+}
+
+void check_finite(const State& s) {
+  const ParticleStore& P = s.particles;
+  const std::size_t n = P.size();
+  // The first offending particle (lowest index), whatever the thread count.
+  const std::size_t bad = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, kParticleGrain), n,
+      [&](const tbb::blocked_range<std::size_t>& r, std::size_t found) {
+        return first_bad(P, r, found);
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+  if (bad == n) return;
+  for (const Field f : kChecked) {
+    const double v = P.col(f)[bad];
+    if (!std::isfinite(v)) {
+      const auto ids = P.col(IField::id);
+      throw NumericalError(
+          fmt::format("non-finite {} = {} at particle {} (id {}) at step {}, t = {:.6e} s",
+                      name_of(f), v, bad, ids[bad], s.clock.step, s.clock.time),
+          bad, s.clock.step);
+    }
+  }
+}
+
+double fastest_local(const State& s) {
+  const ParticleStore& P = s.particles;
+  const auto c = P.col(Field::soundspeed);
+  const auto vx = P.col(Field::vx), vy = P.col(Field::vy), vz = P.col(Field::vz);
+  // max_p (c_p + |v_p|) of Eq. 34; max is exact, so the reduction order does not matter.
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+        for (std::size_t p = r.begin(); p < r.end(); ++p) {
+          acc = std::max(acc, c[p] + std::sqrt(vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]));
+        }
+        return acc;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
+double stable_dt(const State& s, double fastest) {
+  const SolverConfig& cfg = s.config;
+  if (!(fastest > 0.0)) return cfg.dt_max;  // nothing moves and nothing can: any step is stable
+  return std::min(cfg.cfl * cfg.cell_size / fastest, cfg.dt_max);  // Eq. 34
+}
+
+Stage time_step_stage(State& s) {
+  // Under fault injection (tests/mpi) the stage may write a NaN into vx.
+  const FieldSet writes = s.fault.kind == 1 ? FieldSet{Field::vx} : FieldSet{};
+  return {"time_step", {kCheckedSet, 0}, {writes, kClock}, [&s] { time_step(s); }};
+}
+
+}  // namespace shatter::mpm

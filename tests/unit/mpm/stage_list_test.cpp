@@ -1,0 +1,75 @@
+// The MPM step's stage list (src/mpm/step.cpp, App. A.2 of the MPM paper) as a scene builds it:
+// the transfer decides the filter and remap stages, the boundaries the outflow stage. Golden
+// lists: a change to the step's shape must show here.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "shatter/material/linear_elastic.hpp"
+#include "shatter/mpm/simulation.hpp"
+#include "support/lattice.hpp"
+
+using namespace shatter;
+using Eigen::Vector3d;
+
+namespace {
+
+std::vector<std::string> stages_of(const SolverConfig& cfg) {
+  ParticleStore s;
+  test::add_box(s, 0, Vector3d::Zero(), Vector3d::Constant(0.2), 0.05, 1000.0, Vector3d::Zero(), 0);
+  const Simulation sim(cfg, std::move(s), {std::make_shared<LinearElastic>(1000.0, 1e6, 0.25)}, 1);
+  return sim.stage_names();
+}
+
+SolverConfig base() {
+  SolverConfig cfg;
+  cfg.cell_size = 0.1;
+  return cfg;
+}
+
+TEST(StageList, FlipIsTheMuslStepOfAppendixA2) {
+  EXPECT_EQ(
+      stages_of(base()),
+      (std::vector<std::string>{"sort", "p2g", "grid_update", "g2p", "remap", "velocity_gradient",
+                                "constitutive", "advance_positions", "energy", "time_step"}));
+}
+
+TEST(StageList, ApicHasNoRemap) {
+  SolverConfig cfg = base();
+  cfg.transfer = TransferKind::apic;
+  EXPECT_EQ(stages_of(cfg),
+            (std::vector<std::string>{"sort", "p2g", "grid_update", "g2p", "velocity_gradient",
+                                      "constitutive", "advance_positions", "energy", "time_step"}));
+}
+
+TEST(StageList, XpicAndFmpmFilterBeforeG2pFromOrderTwo) {
+  SolverConfig cfg = base();
+  cfg.transfer = TransferKind::xpic;
+  cfg.xpic_order = 3;
+  const std::vector<std::string> xpic = stages_of(cfg);
+  ASSERT_GE(xpic.size(), 5u);
+  EXPECT_EQ(xpic[3], "xpic");
+  EXPECT_EQ(xpic[4], "g2p");
+  cfg.xpic_order = 1;  // XPIC(1) is PIC: no extra pass, no filter stage
+  EXPECT_EQ(stages_of(cfg).size(), stages_of(base()).size());
+  cfg.transfer = TransferKind::fmpm;
+  cfg.fmpm_order = 4;
+  EXPECT_EQ(stages_of(cfg)[3], "fmpm");
+}
+
+TEST(StageList, OutflowFacesAddTheOutflowStageAfterThePositions) {
+  SolverConfig cfg = base();
+  cfg.domain.lo = Vector3d::Constant(-1.0);
+  cfg.domain.hi = Vector3d::Constant(1.0);
+  cfg.domain.faces[0] = BoundaryKind::outflow;
+  const std::vector<std::string> names = stages_of(cfg);
+  const auto at = std::find(names.begin(), names.end(), "outflow");
+  ASSERT_NE(at, names.end());
+  EXPECT_EQ(*(at - 1), "advance_positions");
+  EXPECT_EQ(*(at + 1), "energy");
+}
+
+}  // namespace
