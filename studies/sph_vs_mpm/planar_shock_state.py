@@ -46,7 +46,8 @@ def main():
     ap.add_argument("--times", type=float, nargs="+", default=[1.5e-6, 2.0e-6])
     ap.add_argument("--layers", type=int, default=5)
     args = ap.parse_args()
-    unit = {"p": (1e-9, "GPa"), "energy": (1e-6, "MJ/kg"), "vx": (1.0, "m/s"), "rho": (1.0, "kg/m^3")}
+    unit = {"p": (1e-9, "GPa"), "energy": (1e-6, "MJ/kg"), "vx": (1.0, "m/s"),
+            "rho": (1.0, "kg/m^3")}
     print("| run | t (us) | " + " | ".join(f"{k} ({u[1]}): layers / mean / spread"
                                            for k, u in unit.items()) + " |")
     print("|---|---|" + "---|" * len(unit))
