@@ -24,6 +24,12 @@ void g2p(State& s) {
     in.fvy = s.filter.target[1].data();
     in.fvz = s.filter.target[2].data();
   }
+  if (s.transfer.filter_heat) {
+    for (auto* c : {&sc.flip_vx, &sc.flip_vy, &sc.flip_vz}) c->resize(P.size());
+    in.flip_vx = sc.flip_vx.data();
+    in.flip_vy = sc.flip_vy.data();
+    in.flip_vz = sc.flip_vz.data();
+  }
   const double* mass = P.col(Field::mass).data();
   const double half_dt_prev = 0.5 * s.clock.dt_prev;
   const Vec3 g = s.config.gravity;
