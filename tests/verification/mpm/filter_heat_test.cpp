@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -78,19 +79,21 @@ const Case kCases[] = {{"xpic5", TransferKind::xpic, 0.0},
 
 }  // namespace
 
-// Total energy, booking on against off, to the end of the scene (t = 4 s). Measured (Release):
-// off, XPIC(5) / FMPM(5) / blend 5% lose what the filter removes (printed; tens of per cent for
-// the filters, docs/verification.md); on, the remaining error is FLIP's own time-integration
-// error plus the steps where a filter adds kinetic energy (nothing booked), below 1% here. The
-// bound 1% is far below the loss without the booking, so a booking that drops a term, books the
-// wrong sign or the wrong step fails; FLIP itself ends at -0.33% on this problem.
+// Total energy, booking on against off, to the end of the scene (t = 4 s). Measured (Release,
+// energy_error at 4 s), off / on: XPIC(5) -8.39% / -0.069%, FMPM(5) -5.50% / -0.29%, 5% blend
+// -13.6% / -0.81% (FLIP itself -0.33% on the scene). What remains with the booking on is the
+// time integration's own error plus the steps in which the filter adds kinetic energy (nothing is
+// booked then). Each bound is about 1.5-3x the measured error, 7x or more below the loss without
+// the booking: a booking that drops a term, has the wrong sign or books the wrong step fails.
 TEST(FilterHeat, FilteringTransfersConserveTotalEnergy) {
-  for (const Case& c : kCases) {
+  const double bound[] = {2e-3, 6e-3, 1.2e-2};  // per case of kCases
+  for (std::size_t k = 0; k < std::size(kCases); ++k) {
+    const Case& c = kCases[k];
     const double off = energy_error(spheres_config(c.transfer, false, c.pic_fraction));
     const double on = energy_error(spheres_config(c.transfer, true, c.pic_fraction));
     std::printf("%-8s energy error: booking off %+.4e, on %+.4e\n", c.name, off, on);
-    EXPECT_LT(std::abs(on), 1e-2) << c.name;
-    EXPECT_GT(std::abs(off), 10.0 * std::abs(on)) << c.name;
+    EXPECT_LT(std::abs(on), bound[k]) << c.name;
+    EXPECT_GT(std::abs(off), 7.0 * bound[k]) << c.name;
   }
 }
 
