@@ -51,6 +51,16 @@ void g2p(State& s) {
   if (s.driven) {
     s.driven->set_particles(P, sc.dx.data(), sc.dy.data(), sc.dz.data(), sc.kinetic.data(),
                             s.dt_step);
+    // A driven point's velocity is prescribed, not filtered: nothing of it is booked as heat.
+    if (in.flip_vx != nullptr) {
+      const auto id = P.col(IField::id);
+      for (std::size_t p = 0; p < P.size(); ++p) {
+        if (s.driven->velocity(id[p]) == nullptr) continue;
+        in.flip_vx[p] = in.vx[p];
+        in.flip_vy[p] = in.vy[p];
+        in.flip_vz[p] = in.vz[p];
+      }
+    }
   }
 }
 
