@@ -27,6 +27,9 @@ struct G2PParticles {
   // Nodal velocity v_f that w interpolates; null: the updated grid velocity v^{n+1} (in p*).
   // XPIC's S (V*_m + a dt) (Hammerquist & Nairn 2017) comes in here.
   const double *fvx, *fvy, *fvz;
+  // Out, when not null: the plain FLIP velocity v_p + S a dt of the same step, whatever the
+  // update (the filter-heat booking of SolverConfig::filter_heat compares the two).
+  double *flip_vx = nullptr, *flip_vy = nullptr, *flip_vz = nullptr;
   StencilCache stencil;  // kLoad: the stencils P2G stored this step
 };
 
@@ -136,6 +139,11 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
     const double wx = filtered ? t[0] : ux, wy = filtered ? t[1] : uy, wz = filtered ? t[2] : uz;
     const double v0[3] = {in.vx[p], in.vy[p], in.vz[p]};
     const double f = in.pic_fraction;
+    if (in.flip_vx != nullptr) {
+      in.flip_vx[p] = v0[0] + in.dt_velocity * ax;
+      in.flip_vy[p] = v0[1] + in.dt_velocity * ay;
+      in.flip_vz[p] = v0[2] + in.dt_velocity * az;
+    }
     if (f == 1.0) {
       in.vx[p] = wx;
       in.vy[p] = wy;

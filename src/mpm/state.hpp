@@ -46,6 +46,8 @@ struct Scratch {
   // 1/2 m_p |v_p|^2 of the velocity each particle scattered in this step's P2G (v^{n-1/2}),
   // written by G2P; outflow does not drop the departed ones (their momentum is on the nodes).
   AlignedVector<double> kinetic_transferred;
+  // The plain FLIP velocity of the step (G2P -> filter_heat; SolverConfig::filter_heat only).
+  AlignedVector<double> flip_vx, flip_vy, flip_vz;
   AlignedVector<double> bx, by, bz;    // body force per unit mass, when the scene has one
   std::vector<double> step4_velocity;  // body-copy node velocities kept through the remap
 };

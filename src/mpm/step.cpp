@@ -28,6 +28,7 @@ void add_stages(State& s) {
   g.add(grid_update_stage(s));                                   // 2-4. BCs, momentum (Eq. 27)
   if (s.transfer.filter_stage()) g.add(filter_stage<Shape>(s));  // 5a. XPIC / FMPM passes
   g.add(g2p_stage<Shape>(s));                                    // 5. G2P
+  if (s.transfer.filter_heat) g.add(filter_heat_stage(s));       // 5b. filtered loss as heat
   if (s.transfer.remap) g.add(remap_stage<Shape>(s));            // 6. MUSL remap
   g.add(velocity_gradient_stage<Shape>(s));                      // 7a. Eqs. 21, 23
   g.add(constitutive_stage(s));                                  // 7b. Eqs. 22, 35

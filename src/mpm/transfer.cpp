@@ -7,6 +7,20 @@
 namespace shatter::mpm {
 namespace {
 
+// The filter-heat booking needs an update that filters: plain FLIP removes nothing, and APIC's
+// affine velocity C_p keeps part of what its PIC update drops, which the FLIP-minus-filtered
+// difference would book as heat a second time.
+void check_filter_heat(const SolverConfig& c) {
+  const bool filters = c.transfer == TransferKind::xpic || c.transfer == TransferKind::fmpm ||
+                       (c.transfer == TransferKind::flip && c.pic_fraction > 0.0);
+  if (!filters) {
+    throw std::invalid_argument(fmt::format(
+        "solver: filter_heat applies only to a filtering transfer (xpic, fmpm, or flip with "
+        "pic_fraction > 0), not '{}' with pic_fraction {}",
+        name_of(c.transfer), c.pic_fraction));
+  }
+}
+
 void check(const SolverConfig& c) {
   if (c.transfer == TransferKind::apic && c.shape == ShapeKind::linear) {
     // C_p = sum v_I grad N_I^T jumps when a point crosses a cell face with linear shapes; the
@@ -47,6 +61,7 @@ void check(const SolverConfig& c) {
         fmt::format("solver: filter_every applies only to transfer 'xpic' or 'fmpm', not '{}'",
                     name_of(c.transfer)));
   }
+  if (c.filter_heat) check_filter_heat(c);
 }
 
 }  // namespace
@@ -62,6 +77,7 @@ TransferPolicy TransferPolicy::from(const SolverConfig& c) {
                                                : 1;
   t.filter_every = c.filter_every;
   t.pic_fraction = c.pic_fraction;
+  t.filter_heat = c.filter_heat;
   return t;
 }
 

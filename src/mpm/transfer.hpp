@@ -22,6 +22,9 @@ struct TransferPolicy {
   int order = 1;
   int filter_every = 1;
   double pic_fraction = 0.0;  // FLIP: the share of the grid velocity (the FLIP/PIC blend)
+  // Book the kinetic energy the filtered update removes as heat (SolverConfig::filter_heat;
+  // the filter_heat stage, stages/filter_heat.cpp).
+  bool filter_heat = false;
 
   // The policy of a configuration; throws std::invalid_argument for a combination no policy
   // implements (the scene reports the same rules with file, line and key: parse_solver.cpp;

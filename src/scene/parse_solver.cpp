@@ -38,7 +38,7 @@ void read_solver(Reader& root, Scene& scene) {
            "end_time",         "dt_max",         "dt_min",       "gravity",    "symmetry_plane",
            "reorder_interval", "viscosity",      "sph",          "contact",    "friction",
            "contact_pair",     "dt_floor_ratio", "pic_fraction", "xpic_order", "fmpm_order",
-           "filter_every"});
+           "filter_every",     "filter_heat"});
   r.reject_unknown();
 
   SolverConfig& c = scene.solver;
@@ -97,6 +97,18 @@ void read_solver(Reader& root, Scene& scene) {
     if (every < 1 || every > std::numeric_limits<int>::max())
       r.fail("filter_every", fmt::format("must be an integer >= 1 (got {})", every));
     c.filter_every = static_cast<int>(every);
+  }
+  // The filter-heat booking (read only when given, so scenes without it resolve as before).
+  r.note_range("filter_heat", "xpic, fmpm, or flip with pic_fraction > 0; absent = false");
+  if (r.has("filter_heat")) {
+    c.filter_heat = r.boolean("filter_heat", false);
+    const bool filters = c.transfer == TransferKind::xpic || c.transfer == TransferKind::fmpm ||
+                         (c.transfer == TransferKind::flip && c.pic_fraction > 0.0);
+    if (c.filter_heat && !filters)
+      r.fail("filter_heat",
+             "applies only with a filtering transfer: solver.transfer = \"xpic\" or \"fmpm\", or "
+             "\"flip\" with pic_fraction > 0 (plain FLIP removes no kinetic energy; APIC's affine "
+             "velocity keeps part of what its update drops)");
   }
   c.cell_size = r.positive("cell_size", r.number("cell_size"));
   r.within("cell_size", c.cell_size, ranges::kMinLength, ranges::kMaxLength, "m",

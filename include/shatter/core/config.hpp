@@ -138,6 +138,11 @@ struct SolverConfig {
   // XPIC and FMPM only: apply the filtered update on every N-th step (steps N, 2N, ... of the
   // run, counted by Clock::step, which checkpoints carry), FLIP on the others; 1 = every step.
   int filter_every = 1;
+  // Filtering transfers (xpic, fmpm, FLIP with pic_fraction > 0) only: book the kinetic energy
+  // the filtered particle update removes, against the plain FLIP update of the same step, as
+  // internal energy of the points that carried it (DeBar 1974's kinetic-energy fix of
+  // staggered-grid remaps; Benson 1992, CMAME 99). Off: the loss is booked nowhere.
+  bool filter_heat = false;
   double cell_size = 0.0;  // h, edge of a grid cell (the paper's d_c)
   // Eq. 34 allows CFL 1; 0.3 leaves room for the sound speed growing within one step in shocks.
   double cfl = 0.3;

@@ -24,6 +24,12 @@ void g2p(State& s) {
     in.fvy = s.filter.target[1].data();
     in.fvz = s.filter.target[2].data();
   }
+  if (s.transfer.filter_heat) {
+    for (auto* c : {&sc.flip_vx, &sc.flip_vy, &sc.flip_vz}) c->resize(P.size());
+    in.flip_vx = sc.flip_vx.data();
+    in.flip_vy = sc.flip_vy.data();
+    in.flip_vz = sc.flip_vz.data();
+  }
   const double* mass = P.col(Field::mass).data();
   const double half_dt_prev = 0.5 * s.clock.dt_prev;
   const Vec3 g = s.config.gravity;
@@ -45,6 +51,16 @@ void g2p(State& s) {
   if (s.driven) {
     s.driven->set_particles(P, sc.dx.data(), sc.dy.data(), sc.dz.data(), sc.kinetic.data(),
                             s.dt_step);
+    // A driven point's velocity is prescribed, not filtered: nothing of it is booked as heat.
+    if (in.flip_vx != nullptr) {
+      const auto id = P.col(IField::id);
+      for (std::size_t p = 0; p < P.size(); ++p) {
+        if (s.driven->velocity(id[p]) == nullptr) continue;
+        in.flip_vx[p] = in.vx[p];
+        in.flip_vy[p] = in.vy[p];
+        in.flip_vz[p] = in.vz[p];
+      }
+    }
   }
 }
 

@@ -24,6 +24,8 @@ Stage filter_stage(State& s);
 // 5. particle velocity and displacement from the grid
 template <class Shape>
 Stage g2p_stage(State& s);
+// 5b. the kinetic energy the filtered update removed, booked as heat (SolverConfig::filter_heat)
+Stage filter_heat_stage(State& s);
 // 6. MUSL: updated particle momentum back to the grid, nodal velocity
 template <class Shape>
 Stage remap_stage(State& s);
