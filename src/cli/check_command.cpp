@@ -22,6 +22,22 @@ int threads_used(int requested) {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
+// Runs `read` (the scene's reading and set-up); a scene refused there is reported and gives
+// kBadInput, as in `shatter run`.
+template <class Read>
+bool refused(const std::filesystem::path& scene_file, Read&& read) {
+  try {
+    read();
+  } catch (const scene::SceneError& err) {
+    spdlog::error("{}", err.what());
+    return true;
+  } catch (const std::invalid_argument& err) {
+    spdlog::error("{}: {}", scene_file.string(), err.what());
+    return true;
+  }
+  return false;
+}
+
 // What a stage does beyond its name, where the scene decides it: contact is resolved inside
 // grid_update (src/mpm/stages/grid_update.cpp), so the list shows which contact runs there.
 std::string stage_note(const std::string& name, const scene::Scene& s) {
@@ -38,15 +54,11 @@ std::string stage_note(const std::string& name, const scene::Scene& s) {
 int print_stages(const std::filesystem::path& scene_file, const RunOptions& options) {
   scene::Scene s;
   std::unique_ptr<Solver> sim;
-  try {
-    s = scene::load_scene(scene_file, options.sets);
-    scene::BuiltScene built = scene::build(s);
-    sim = scene::make_solver(s, std::move(built.particles), built.materials, options.threads);
-  } catch (const scene::SceneError& err) {
-    spdlog::error("{}", err.what());
-    return kBadInput;
-  } catch (const std::invalid_argument& err) {
-    spdlog::error("{}: {}", scene_file.string(), err.what());
+  if (refused(scene_file, [&] {
+        s = scene::load_scene(scene_file, options.sets);
+        scene::BuiltScene built = scene::build(s);
+        sim = scene::make_solver(s, std::move(built.particles), built.materials, options.threads);
+      })) {
     return kBadInput;
   }
   const auto& world = parallel::world();
@@ -86,20 +98,16 @@ int check_command(const std::filesystem::path& scene_file, const RunOptions& opt
   if (options.stages && parallel::world().distributed()) return print_stages(scene_file, options);
   scene::Scene s;
   scene::RunEstimate e;
-  try {
-    s = scene::load_scene(scene_file, options.sets, scene::Points::defer);
-    // Counting visits every lattice point; beyond 1e8 (about a second per 1e8) the volume
-    // estimate is given instead, which is what the run's memory guard uses.
-    auto bodies = scene::estimate_points(s);
-    double total = 0.0;
-    for (const auto& b : bodies) total += b.points;
-    if (total <= 1e8) bodies = scene::count_and_check_points(s);
-    e = scene::estimate_run(s, std::move(bodies));
-  } catch (const scene::SceneError& err) {
-    spdlog::error("{}", err.what());
-    return kBadInput;
-  } catch (const std::invalid_argument& err) {
-    spdlog::error("{}: {}", scene_file.string(), err.what());
+  if (refused(scene_file, [&] {
+        s = scene::load_scene(scene_file, options.sets, scene::Points::defer);
+        // Counting visits every lattice point; beyond 1e8 (about a second per 1e8) the volume
+        // estimate is given instead, which is what the run's memory guard uses.
+        auto bodies = scene::estimate_points(s);
+        double total = 0.0;
+        for (const auto& b : bodies) total += b.points;
+        if (total <= 1e8) bodies = scene::count_and_check_points(s);
+        e = scene::estimate_run(s, std::move(bodies));
+      })) {
     return kBadInput;
   }
   const int threads = threads_used(options.threads);
