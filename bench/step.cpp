@@ -75,7 +75,8 @@ void BM_Step(benchmark::State& state, ShapeKind shape) {
   bench::report(state, sim.particles(), sim.grid_bytes());
   // Everything the simulation holds (columns, grid, the step's scratch: stencils, displacements,
   // the copy kept for a retake), as the growth of the resident set since the first call; with
-  // one benchmark per process (tools/plot_step_scaling.py) the peak footprint of the step.
+  // one benchmark per process (studies/scaling/plot_step_scaling.py) the peak footprint of the
+  // step.
   state.counters["resident_bytes/particle"] = (resident_bytes() - rss0) / n;
   state.counters["allocated_bytes/particle"] = (allocated_bytes() - allocated0) / n;
   const double steps = static_cast<double>(state.iterations());

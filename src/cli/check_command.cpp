@@ -1,6 +1,6 @@
 // `shatter check SCENE`: the scene validated and its cost estimated (points per body, memory,
 // first time step, steps, run time) without creating the particles; and the guard `shatter run`
-// applies before allocating them.
+// applies before allocating them. With --stages, the step's stage list as the scene builds it.
 
 #include <thread>
 
@@ -9,6 +9,9 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "shatter/mpm/simulation.hpp"
+#include "shatter/parallel/comm.hpp"
+#include "shatter/scene/build.hpp"
 #include "shatter/scene/estimate.hpp"
 
 namespace shatter::cli {
@@ -17,6 +20,64 @@ namespace {
 int threads_used(int requested) {
   if (requested > 0) return requested;
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+// Runs `read` (the scene's reading and set-up); a scene refused there is reported and gives
+// kBadInput, as in `shatter run`.
+template <class Read>
+bool refused(const std::filesystem::path& scene_file, Read&& read) {
+  try {
+    read();
+  } catch (const scene::SceneError& err) {
+    spdlog::error("{}", err.what());
+    return true;
+  } catch (const std::invalid_argument& err) {
+    spdlog::error("{}: {}", scene_file.string(), err.what());
+    return true;
+  }
+  return false;
+}
+
+// What a stage does beyond its name, where the scene decides it: contact is resolved inside
+// grid_update (src/mpm/stages/grid_update.cpp), so the list shows which contact runs there.
+std::string stage_note(const std::string& name, const scene::Scene& s) {
+  if (name == "grid_update") return fmt::format("  (contact: {})", name_of(s.solver.contact.kind));
+  if (name == "p2g" || name == "g2p" || name == "xpic" || name == "fmpm") {
+    return fmt::format("  (transfer: {})", name_of(s.solver.transfer));
+  }
+  if (name == "migrate" || name == "halo") return "  (MPI exchange, src/parallel/mpm/)";
+  return "";
+}
+
+// The particles are created (the solver's set-up needs them), so this costs what `run --check`
+// costs. On several MPI ranks every rank builds the solver (a collective set-up), rank 0 prints.
+int print_stages(const std::filesystem::path& scene_file, const RunOptions& options) {
+  scene::Scene s;
+  std::unique_ptr<Solver> sim;
+  if (refused(scene_file, [&] {
+        s = scene::load_scene(scene_file, options.sets);
+        scene::BuiltScene built = scene::build(s);
+        sim = scene::make_solver(s, std::move(built.particles), built.materials, options.threads);
+      })) {
+    return kBadInput;
+  }
+  const auto& world = parallel::world();
+  if (world.rank() != 0) return kOk;
+  if (const auto* mpm = dynamic_cast<const Simulation*>(sim.get())) {
+    const std::vector<std::string> names = mpm->stage_names();
+    fmt::print("stages: the MPM step (src/mpm/step.cpp) on {} rank{}, {} stages\n", world.size(),
+               world.size() == 1 ? "" : "s", names.size());
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      fmt::print("{:>3}. {}{}\n", i + 1, names[i], stage_note(names[i], s));
+    }
+    return kOk;
+  }
+  // SPH's step is fixed (src/sph/solver.cpp, SphSolver::step): its timed parts, in order.
+  fmt::print("stages: the {} step is fixed (src/sph/solver.cpp), {} parts\n", sim->method(),
+             sim->stage_timings().size());
+  std::size_t i = 0;
+  for (const StageTiming& t : sim->stage_timings()) fmt::print("{:>3}. {}\n", ++i, t.name);
+  return kOk;
 }
 
 }  // namespace
@@ -33,22 +94,20 @@ std::optional<std::string> too_large_for_memory(const scene::RunEstimate& e) {
 }
 
 int check_command(const std::filesystem::path& scene_file, const RunOptions& options) {
+  // Under mpirun (allowed with --stages only, main.cpp) the estimate is not repeated per rank.
+  if (options.stages && parallel::world().distributed()) return print_stages(scene_file, options);
   scene::Scene s;
   scene::RunEstimate e;
-  try {
-    s = scene::load_scene(scene_file, options.sets, scene::Points::defer);
-    // Counting visits every lattice point; beyond 1e8 (about a second per 1e8) the volume
-    // estimate is given instead, which is what the run's memory guard uses.
-    auto bodies = scene::estimate_points(s);
-    double total = 0.0;
-    for (const auto& b : bodies) total += b.points;
-    if (total <= 1e8) bodies = scene::count_and_check_points(s);
-    e = scene::estimate_run(s, std::move(bodies));
-  } catch (const scene::SceneError& err) {
-    spdlog::error("{}", err.what());
-    return kBadInput;
-  } catch (const std::invalid_argument& err) {
-    spdlog::error("{}: {}", scene_file.string(), err.what());
+  if (refused(scene_file, [&] {
+        s = scene::load_scene(scene_file, options.sets, scene::Points::defer);
+        // Counting visits every lattice point; beyond 1e8 (about a second per 1e8) the volume
+        // estimate is given instead, which is what the run's memory guard uses.
+        auto bodies = scene::estimate_points(s);
+        double total = 0.0;
+        for (const auto& b : bodies) total += b.points;
+        if (total <= 1e8) bodies = scene::count_and_check_points(s);
+        e = scene::estimate_run(s, std::move(bodies));
+      })) {
     return kBadInput;
   }
   const int threads = threads_used(options.threads);
@@ -86,7 +145,7 @@ int check_command(const std::filesystem::path& scene_file, const RunOptions& opt
     spdlog::error("{}: {}", scene_file.string(), *refusal);
     return kBadInput;
   }
-  return kOk;
+  return options.stages ? print_stages(scene_file, options) : kOk;
 }
 
 }  // namespace shatter::cli

@@ -26,7 +26,8 @@ struct RunOptions {
   bool overwrite = false;                    // replace a previous run in the directory
   bool take_lock = false;  // take over a stale lock that names another host (io::RunLock)
   bool accept_timeseries_gap = false;  // resume: continue a time series that lost rows
-  bool check = false;  // run: check the scene and set the run up, then stop (nothing written)
+  bool check = false;   // run: check the scene and set the run up, then stop (nothing written)
+  bool stages = false;  // check: also print the step's stage list (creates the particles)
   std::vector<std::string> sets;  // --set key=value
 };
 

@@ -109,6 +109,9 @@ int shatter_main(int argc, char** argv) {
   check->add_option("--set", run_options.sets, "override a scene key: dotted.key=value")
       ->take_all();
   check->add_flag("--quiet", quiet, "only warnings and errors");
+  check->add_flag("--stages", run_options.stages,
+                  "also print the step's stage list as the scene builds it (transfer, filters, "
+                  "outflow, MPI exchanges); creates the particles, as run --check does");
 
   std::vector<std::string> reference_roots;
   std::string reference_write;
@@ -198,9 +201,12 @@ int shatter_main(int argc, char** argv) {
   if (!out_dir.empty()) run_options.out = out_dir;
 
   const auto& world = shatter::parallel::world();
-  if (world.distributed() && !run->parsed() && !resume->parsed()) {
+  const bool stage_list = check->parsed() && run_options.stages;
+  if (world.distributed() && !run->parsed() && !resume->parsed() && !stage_list) {
     if (world.rank() == 0) {
-      spdlog::error("only 'run' and 'resume' run on several MPI ranks; start the others alone");
+      spdlog::error(
+          "only 'run', 'resume' and 'check --stages' run on several MPI ranks; start the others "
+          "alone");
     }
     return kBadInput;
   }

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include "mpm/jaumann.hpp"
+#include "strength/jaumann.hpp"
 
 namespace shatter {
 
