@@ -10,6 +10,7 @@
 #include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
 #include "parallel/mpm/exchanges.hpp"
+#include "shatter/core/advance.hpp"
 #include "shatter/mpm/simulation.hpp"
 
 namespace shatter::mpm {
@@ -97,18 +98,7 @@ void Simulation::step() {
 }
 
 void Simulation::advance_to(double t) {
-  // Steps shorter than this fraction of the stable step are merged into the previous one rather
-  // than taken alone, so output times do not produce sliver steps.
-  constexpr double kSliver = 1e-3;
-  while (clock_.time < t) {
-    const double remaining = t - clock_.time;
-    if (remaining <= kSliver * clock_.dt) {
-      clock_.time = t;
-      break;
-    }
-    if (clock_.dt > remaining) clock_.dt = remaining;
-    step();
-  }
+  advance_clock_to(clock_, t, [this] { step(); });
 }
 
 }  // namespace shatter

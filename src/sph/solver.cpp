@@ -2,6 +2,7 @@
 // the step calls are in src/sph/solver_impl.hpp, one file each.
 
 #include "shatter/sph/solver.hpp"
+#include "shatter/core/advance.hpp"
 
 #include <stdexcept>
 
@@ -83,18 +84,7 @@ void SphSolver::step() {
 }
 
 void SphSolver::advance_to(double t) {
-  // As Simulation::advance_to: a remainder below this fraction of the stable step is merged
-  // into the previous step rather than taken alone (no sliver steps at output times).
-  constexpr double kSliver = 1e-3;
-  while (clock_.time < t) {
-    const double remaining = t - clock_.time;
-    if (remaining <= kSliver * clock_.dt) {
-      clock_.time = t;
-      break;
-    }
-    if (clock_.dt > remaining) clock_.dt = remaining;
-    step();
-  }
+  advance_clock_to(clock_, t, [this] { step(); });
 }
 
 }  // namespace shatter::sph
