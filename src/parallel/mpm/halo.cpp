@@ -104,7 +104,8 @@ void received_targets(Reduction& red, std::size_t q, const Bytes& b) {
   constexpr std::size_t kWord = sizeof(double);
   std::vector<double>& words = red.received[q];
   words.resize(b.size() / kWord);
-  std::memcpy(words.data(), b.data(), words.size() * kWord);
+  // An empty message leaves words.data() null, which memcpy may not be given even for 0 bytes.
+  if (!words.empty()) std::memcpy(words.data(), b.data(), words.size() * kWord);
   std::size_t at = 0;  // in words
   while (at * kWord < b.size()) {
     std::uint64_t k = 0, mask = 0;
