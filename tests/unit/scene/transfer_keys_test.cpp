@@ -38,16 +38,14 @@ TEST(TransferKeys, DefaultIsPlainFlipAndResolvesWithoutTheNewKeys) {
 // solver.filter_heat: read with every filtering transfer, refused where nothing is filtered
 // (plain FLIP, APIC; the message names the key and its line).
 TEST(TransferKeys, FilterHeatOnlyWithAFilteringTransfer) {
-  for (const std::string& lines :
-       {std::string("transfer = \"xpic\"\nfilter_heat = true"),
-        std::string("transfer = \"fmpm\"\nfilter_heat = true"),
-        std::string("pic_fraction = 0.05\nfilter_heat = true")}) {
+  for (const std::string& lines : {std::string("transfer = \"xpic\"\nfilter_heat = true"),
+                                   std::string("transfer = \"fmpm\"\nfilter_heat = true"),
+                                   std::string("pic_fraction = 0.05\nfilter_heat = true")}) {
     EXPECT_TRUE(parse(solver_with(lines)).solver.filter_heat) << lines;
   }
   EXPECT_FALSE(parse(solver_with("filter_heat = false")).solver.filter_heat);
-  for (const std::string& lines :
-       {std::string("filter_heat = true"),
-        std::string("transfer = \"apic\"\nfilter_heat = true")}) {
+  for (const std::string& lines : {std::string("filter_heat = true"),
+                                   std::string("transfer = \"apic\"\nfilter_heat = true")}) {
     const std::string text = solver_with(lines);
     expect_names(error_of(text), line_of(text, "filter_heat"), "solver.filter_heat");
   }
