@@ -96,13 +96,7 @@ int resume_command(const std::filesystem::path& file, const RunOptions& options)
   }
   // Held to the end of the run: two resumes of one checkpoint would interleave the time series.
   std::unique_ptr<io::RunLock> lock;
-  try {
-    lock = lock_run_directory(out, options.take_lock);
-  } catch (const io::RunLocked& e) {
-    spdlog::error("{}", e.what());
-    if (parallel::world().distributed()) parallel::world().abort(kBadInput);
-    return kBadInput;
-  }
+  if (!lock_or_refuse(out, options.take_lock, lock)) return kBadInput;
 
   std::unique_ptr<Solver> sim;
   try {

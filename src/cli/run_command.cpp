@@ -148,13 +148,7 @@ int run_command(const std::filesystem::path& scene_file, const RunOptions& optio
   }
   // Held to the end of the run: a second process in the directory is refused (io::RunLock).
   std::unique_ptr<io::RunLock> lock;
-  try {
-    lock = lock_run_directory(out, options.take_lock);
-  } catch (const io::RunLocked& e) {
-    spdlog::error("{}", e.what());
-    if (parallel::world().distributed()) parallel::world().abort(kBadInput);
-    return kBadInput;
-  }
+  if (!lock_or_refuse(out, options.take_lock, lock)) return kBadInput;
   if (options.overwrite && root) clear_run(out);
   if (root) {
     io::write_text_atomically(out / "scene.toml",

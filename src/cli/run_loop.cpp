@@ -486,6 +486,18 @@ std::unique_ptr<io::RunLock> lock_run_directory(const std::filesystem::path& out
   return lock;
 }
 
+bool lock_or_refuse(const std::filesystem::path& out, bool take_over,
+                    std::unique_ptr<io::RunLock>& lock) {
+  try {
+    lock = lock_run_directory(out, take_over);
+  } catch (const io::RunLocked& e) {
+    spdlog::error("{}", e.what());
+    if (parallel::world().distributed()) parallel::world().abort(kBadInput);
+    return false;
+  }
+  return true;
+}
+
 std::filesystem::path snapshot_dir(const std::filesystem::path& out) {
   return out / "snapshots";
 }

@@ -40,6 +40,11 @@ std::string unusable_run_directory(const std::filesystem::path& out, const std::
 // lock it took over.
 std::unique_ptr<io::RunLock> lock_run_directory(const std::filesystem::path& out, bool take_over);
 
+// lock_run_directory for `shatter run` and `resume`: the lock in `lock`, or false when another
+// process holds the directory (reported; on several MPI ranks every rank is aborted).
+bool lock_or_refuse(const std::filesystem::path& out, bool take_over,
+                    std::unique_ptr<io::RunLock>& lock);
+
 // Paths inside a run directory.
 std::filesystem::path snapshot_dir(const std::filesystem::path& out);
 std::filesystem::path checkpoint_path(const std::filesystem::path& out);
