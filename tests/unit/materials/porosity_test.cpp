@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "eos/tillotson.hpp"
 #include "material_test_support.hpp"
@@ -210,6 +211,23 @@ TEST(PorosityModel, BulkDensityAndColumn) {
     const double eps = std::log(2700.0 / 1.6 / s.col(Field::rho)[i]);
     EXPECT_NEAR(a, w06_alpha({1.6, -1e-4, 0.98, 1.0, -0.2}, eps), 1e-12);
   }
+}
+
+// A resumed run builds its solver from the checkpointed store and initialises the materials
+// again: a distension already there (>= 1) must be kept, not reset to alpha0.
+TEST(PorosityModel, InitialiseKeepsACheckpointedDistension) {
+  auto spec = basalt_spec("hydro");
+  spec.porosity = "eps_alpha";
+  spec.params.insert({{"alpha0", 1.6}, {"eps_e", -1e-4}, {"kappa", 0.98}, {"eps_x", -0.2}});
+  ParticleStore s = run(spec, 40);
+  const auto m = make_material(spec);
+  std::vector<double> before(s.col(Field::distension).begin(), s.col(Field::distension).end());
+  const double p_before = s.col(Field::pressure)[3];
+  m->initialise(s, {0, s.size()});
+  for (std::size_t i = 0; i < s.size(); ++i) EXPECT_EQ(s.col(Field::distension)[i], before[i]);
+  EXPECT_LT(before[3], 1.6);
+  // and the pressure is that of the kept distension (same EOS point, no viscous part here)
+  EXPECT_NEAR(s.col(Field::pressure)[3], p_before, 0.05 * std::abs(p_before));
 }
 
 // --- refused parameters -------------------------------------------------------------------
