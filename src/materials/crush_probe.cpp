@@ -57,7 +57,7 @@ std::vector<CrushRow> crush_curve(const MaterialSpec& spec, int n) {
           const double f = static_cast<double>(k) / (n - 1);
           CrushRow r;
           if (por.model() == porosity::Model::eps_alpha) {
-            r.eps_v = 1.1 * por.eps_params().eps_c() * f;
+            r.eps_v = 1.1 * por.eps_params().eps_c() * f + 0.0;  // + 0: no "-0" row
             r.alpha = por.crush_eps(r.eps_v);
             r.rho = rho00 * std::exp(-r.eps_v);
             r.pressure = por.bulk(eos, r.rho, 0.0, r.alpha).p;
