@@ -7,7 +7,9 @@
 // Per particle:
 //  1. Jaumann rotation and elastic trial of the deviator (Eqs. 22, 35-37).
 //  2. Energy predictor E* = E^n + deps : sigma^n / rho (App. A.2 step 7).
-//  3. EOS at (rho^{n+1}, E*): pressure and c_K (Eqs. 8-12); intact c_p (Eq. 13).
+//  3. EOS at (rho^{n+1}, E*): pressure and c_K (Eqs. 8-12); intact c_p (Eq. 13). With a
+//     porosity policy (kernels/porosity), first the compaction of the distension alpha, then
+//     the matrix EOS at alpha rho and the bulk pressure p_s / alpha.
 //  4. Plastic return of the strength model (App. B, Eqs. 4-6, 41-49), plastic strain and heat.
 //  5. Artificial viscosity q on compression, with the longitudinal speed c_p of Eq. 13.
 //  6. Damage: the policy evolves D from the intact stress (kernels/damage).
@@ -32,6 +34,7 @@
 #include "constitutive/artificial_viscosity.hpp"
 #include "constitutive/simd.hpp"
 #include "damage/damage_policy.hpp"
+#include "porosity/porosity.hpp"
 #include "strength/jaumann.hpp"
 #include "strength/strength_common.hpp"
 
@@ -53,6 +56,7 @@ struct ConstitutiveColumns {
   double* heat = nullptr;
   // damage, eps_min, eps_max, n_flaws, weibull_m, n_active
   double* damage_state[6] = {};
+  double* distension = nullptr;  // alpha = rho_s / rho (porosity on)
 };
 
 // How the damage D reaches the stress (issue 11; docs/fracture.md, "Damage-stress coupling").
@@ -110,16 +114,17 @@ inline T double_contraction(const T (&a)[6], const T (&b)[6]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + 2.0 * (a[3] * b[3] + a[4] * b[4] + a[5] * b[5]);
 }
 
-template <class Eos, class Strength, class Damage>
+template <class Eos, class Strength, class Damage, class Porosity = porosity::NoPorosity>
 class ComposedKernel {
  public:
   static constexpr bool kDamaged = Damage::kEnabled;
 
   ComposedKernel(Eos eos, Strength strength, Damage damage,
-                 DamageCoupling coupling = kDefaultCoupling)
-      : eos_(eos), strength_(strength), damage_(damage), coupling_(coupling) {}
+                 DamageCoupling coupling = kDefaultCoupling, Porosity porosity = {})
+      : eos_(eos), strength_(strength), damage_(damage), coupling_(coupling), porosity_(porosity) {}
 
   const Eos& eos() const { return eos_; }
+  const Porosity& porosity() const { return porosity_; }
   const Strength& strength() const { return strength_; }
   const Damage& damage() const { return damage_; }
   DamageCoupling coupling() const { return coupling_; }
@@ -142,7 +147,7 @@ class ComposedKernel {
       double s[6];
       load_deviator<double>(c, p, s);
       const double rho = c.rho[p];
-      const auto e = eos_.evaluate(rho, c.energy[p]);
+      const auto e = initial_eos(c, p);
       const double D = simd::load_or<double>(ptr(c.damage_state[0], p), 0.0);
       if constexpr (!Strength::kHasShear) {
         for (auto& x : s) x = 0.0;
@@ -201,74 +206,29 @@ class ComposedKernel {
     }
   }
 
+  // One particle's state through the step (the stages below fill it in order).
+  template <class T>
+  struct Point {
+    T rho, rho_old, tr, e_old, e_trial, w_old, d_old;
+    T alpha = T(1.0);  // distension (porosity stage; 1 without porosity)
+    T de[6], w[3], sig_old[6];
+    T s[6];                                                      // undamaged deviator
+    T sb[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};  // borne (incremental)
+  };
+
   template <class T>
   void step(const ConstitutiveColumns& c, std::size_t p, const StepParams& sp) const {
-    using simd::load_col;
-    using simd::load_or;
-    using simd::store_col;
-    using simd::store_if;
-    using simd::vselect;
-
-    const T rho = load_col<T>(c.rho + p);
-    const T e_old = load_col<T>(c.energy + p);
-    T de[6], w[3], sig_old[6], s[6];
-    for (int k = 0; k < 6; ++k) de[k] = load_col<T>(c.deps[k] + p);
-    for (int k = 0; k < 3; ++k) w[k] = load_col<T>(c.dspin[k] + p);
-    for (int k = 0; k < 6; ++k) sig_old[k] = load_col<T>(c.stress[k] + p);
-    load_deviator<T>(c, p, s);
-    const T d_old = load_or<T>(ptr(c.damage_state[0], p), 0.0);
-    const bool incremental = Damage::kEnabled && coupling_ == DamageCoupling::incremental;
-
-    // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37). With incremental coupling the
-    // deviator the particle bears, sb (that of the stress columns: q and p are isotropic), gets
-    // its own trial whose increment has the shear modulus (1 - D^n) G (MPM3D-F90,
-    // DamageCoupling::incremental); s stays the undamaged deviator the damage policy reads.
-    T sb[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};
-    if constexpr (Strength::kHasShear) {
-      strength::jaumann_trial(s, de, w, strength_.elastic.G);
-      if (incremental) {
-        const T m = (sig_old[0] + sig_old[1] + sig_old[2]) * (1.0 / 3.0);
-        for (int k = 0; k < 6; ++k) sb[k] = k < 3 ? sig_old[k] - m : sig_old[k];
-        strength::jaumann_trial(sb, de, w, T(strength_.elastic.G) * (1.0 - d_old));
-      }
-    }
-
-    // 2. Energy predictor. The engine sets rho^{n+1} = rho^n / (1 + tr deps), i.e. the volume
-    // grows by tr(deps) V^n, so the work per unit mass is deps : sigma V^n / m = deps : sigma /
-    // rho^n: with this density the energy change matches the engine's volume change exactly
-    // (for a gas, dE = -p dV/m with no O(tr deps) bias).
-    const T tr = de[0] + de[1] + de[2];
-    const T rho_old = rho * (1.0 + tr);
-    const T w_old = double_contraction(de, sig_old);
-    const T e_trial = e_old + w_old / rho_old;
-
-    // 3. EOS (Eqs. 8-12).
-    const auto st_eos = eos_.evaluate(rho, e_trial);
-
-    // 4. Plastic return.
-    strength::PlasticState<T> ps{st_eos.p,
-                                 load_or<T>(ptr(c.plastic_strain, p), 0.0),
-                                 load_or<T>(ptr(c.heat, p), 0.0),
-                                 d_old,
-                                 rho,
-                                 e_trial,
-                                 T(0.0)};
-    if constexpr (Strength::kHasShear) {
-      if (incremental) {
-        // The borne deviator returns to the same yield surface (at D^n); the pressure, plastic
-        // strain and heat are those of the undamaged return below.
-        auto pb = ps;
-        strength_.return_map(sb, pb);
-      }
-    }
-    strength_.return_map(s, ps);
+    Point<T> pt;
+    trial_stage(c, p, pt);
+    const auto st_eos = eos_stage(c, p, pt);
+    strength::PlasticState<T> ps = plastic_stage(c, p, pt, st_eos);
     const T pres = ps.p;
 
     // Eq. 13 of the intact material: the crack speed c_g = 0.4 c_p of Eq. 19 is that of a crack
     // tip running through the intact matrix between the cracks (BA95 Sec. 3), not a property of
     // the damaged particle as a whole; with (1 - D) G a particle's cracks would slow down as it
     // fails (to 0.4 c_K at D = 1), a feedback the Grady-Kipp model does not have.
-    const T cp = longitudinal_speed(st_eos.c2, rho);
+    const T cp = longitudinal_speed(st_eos.c2, pt.rho);
 
     // 5. Artificial viscosity with the longitudinal speed c_p of Eq. 13: the paper's Sec. 3.2
     // lists "the calculation of artificial viscosity used to capture shock fronts" among the uses
@@ -277,65 +237,157 @@ class ComposedKernel {
     // viscosity damps; for intact material that is Eq. 13 itself. Before issue 11 shatter used
     // the bulk c_K here (docs/validation-lab-impact.md measures the difference).
     const double inv_dt = sp.dt > 0.0 ? 1.0 / sp.dt : 0.0;
-    const T c_visc = longitudinal_speed(st_eos.c2, rho, shear_fraction(d_old, pres, ps));
-    const auto av =
-        artificial_viscosity(tr, inv_dt, sp.cell_size, rho, c_visc, sp.c_linear, sp.c_quadratic);
+    const T c_visc = longitudinal_speed(st_eos.c2, pt.rho, shear_fraction(pt.d_old, pres, ps));
+    const auto av = artificial_viscosity(pt.tr, inv_dt, sp.cell_size, pt.rho, c_visc, sp.c_linear,
+                                         sp.c_quadratic);
 
-    // 6. Damage from the intact stress s - p I: the stress of the matrix at its full moduli, so
-    // s / 2G is its strain, which is what Eq. 18 asks for (the policy rebuilds Eq. 14's stress
-    // with D^n and divides by (1 - D) E, grady_kipp.hpp). That holds for a yield surface that
-    // carries D too: its elastic modulus is never degraded, only its strength. Treating its
-    // borne deviator as a (1 - D)-scaled stress (dividing it by 1 - D) makes the strain estimate
-    // grow as D grows and runs away (modified Lundborg, Y0 = 60 MPa, 1.2 mm: 96.9% failed at
-    // 100 us instead of 67%; docs/validation-lab-impact.md), as does Eq. 18 on the borne stress
-    // of the incremental coupling (DamageCoupling::incremental).
-    T dmg = T(0.0);
+    const T dmg = damage_stage(c, p, pt, ps, cp, sp);
+    stress_stage(c, p, pt, pres, av.q, dmg);
+
+    // 9. Eq. 13 with the shear stiffness of the next step's stress update, which every coupling
+    // takes at D^{n+1}, for the time step (Eq. 34): D never decreases, so that step's stress is
+    // no stiffer than this.
+    const T cp_damaged = Damage::kEnabled
+                             ? longitudinal_speed(st_eos.c2, pt.rho, shear_fraction(dmg, pres, ps))
+                             : cp;
+    simd::store_col(c.pressure + p, pres);
+    simd::store_col(c.soundspeed + p, cp_damaged + av.speed);
+    simd::store_if(ptr(c.plastic_strain, p), ps.eps_p);
+    simd::store_if(ptr(c.heat, p), ps.heat);
+  }
+
+ private:
+  // Loads the point; 1. Jaumann rotation + elastic trial; 2. energy predictor.
+  template <class T>
+  void trial_stage(const ConstitutiveColumns& c, std::size_t p, Point<T>& pt) const {
+    using simd::load_col;
+    pt.rho = load_col<T>(c.rho + p);
+    pt.e_old = load_col<T>(c.energy + p);
+    for (int k = 0; k < 6; ++k) pt.de[k] = load_col<T>(c.deps[k] + p);
+    for (int k = 0; k < 3; ++k) pt.w[k] = load_col<T>(c.dspin[k] + p);
+    for (int k = 0; k < 6; ++k) pt.sig_old[k] = load_col<T>(c.stress[k] + p);
+    load_deviator<T>(c, p, pt.s);
+    pt.d_old = simd::load_or<T>(ptr(c.damage_state[0], p), 0.0);
+
+    // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37). With incremental coupling the
+    // deviator the particle bears, sb (that of the stress columns: q and p are isotropic), gets
+    // its own trial whose increment has the shear modulus (1 - D^n) G (MPM3D-F90,
+    // DamageCoupling::incremental); s stays the undamaged deviator the damage policy reads.
+    if constexpr (Strength::kHasShear) {
+      strength::jaumann_trial(pt.s, pt.de, pt.w, strength_.elastic.G);
+      if (incremental()) {
+        const T m = (pt.sig_old[0] + pt.sig_old[1] + pt.sig_old[2]) * (1.0 / 3.0);
+        for (int k = 0; k < 6; ++k) pt.sb[k] = k < 3 ? pt.sig_old[k] - m : pt.sig_old[k];
+        strength::jaumann_trial(pt.sb, pt.de, pt.w, T(strength_.elastic.G) * (1.0 - pt.d_old));
+      }
+    }
+
+    // 2. Energy predictor. The engine sets rho^{n+1} = rho^n / (1 + tr deps), i.e. the volume
+    // grows by tr(deps) V^n, so the work per unit mass is deps : sigma V^n / m = deps : sigma /
+    // rho^n: with this density the energy change matches the engine's volume change exactly
+    // (for a gas, dE = -p dV/m with no O(tr deps) bias). For a porous bulk this p dV work of
+    // the bulk stress is also the work of compaction (kernels/porosity/porosity.hpp).
+    pt.tr = pt.de[0] + pt.de[1] + pt.de[2];
+    pt.rho_old = pt.rho * (1.0 + pt.tr);
+    pt.w_old = double_contraction(pt.de, pt.sig_old);
+    pt.e_trial = pt.e_old + pt.w_old / pt.rho_old;
+  }
+
+  // 3. EOS (Eqs. 8-12) at (rho^{n+1}, E*); with porosity, compaction of the distension first and
+  // the matrix EOS at rho_s = alpha rho (kernels/porosity/porosity.hpp).
+  template <class T>
+  eos::EosPoint<T> eos_stage(const ConstitutiveColumns& c, std::size_t p, Point<T>& pt) const {
+    if constexpr (Porosity::kEnabled) {
+      const T a_old = simd::load_col<T>(c.distension + p);
+      pt.alpha = porosity_.compact(eos_, pt.rho, pt.rho_old, pt.e_trial, a_old);
+      simd::store_col(c.distension + p, pt.alpha);
+      return porosity_.bulk(eos_, pt.rho, pt.e_trial, pt.alpha);
+    } else {
+      (void)c;
+      (void)p;
+      return eos_.evaluate(pt.rho, pt.e_trial);
+    }
+  }
+
+  // 4. Plastic return of the strength model (App. B).
+  template <class T>
+  strength::PlasticState<T> plastic_stage(const ConstitutiveColumns& c, std::size_t p, Point<T>& pt,
+                                          const eos::EosPoint<T>& st_eos) const {
+    strength::PlasticState<T> ps{st_eos.p,
+                                 simd::load_or<T>(ptr(c.plastic_strain, p), 0.0),
+                                 simd::load_or<T>(ptr(c.heat, p), 0.0),
+                                 pt.d_old,
+                                 pt.rho,
+                                 pt.e_trial,
+                                 T(0.0)};
+    if constexpr (Strength::kHasShear) {
+      if (incremental()) {
+        // The borne deviator returns to the same yield surface (at D^n); the pressure, plastic
+        // strain and heat are those of the undamaged return below.
+        auto pb = ps;
+        strength_.return_map(pt.sb, pb);
+      }
+    }
+    strength_.return_map(pt.s, ps);
+    return ps;
+  }
+
+  // 6. Damage from the intact stress s - p I: the stress of the matrix at its full moduli, so
+  // s / 2G is its strain, which is what Eq. 18 asks for (the policy rebuilds Eq. 14's stress
+  // with D^n and divides by (1 - D) E, grady_kipp.hpp). That holds for a yield surface that
+  // carries D too: its elastic modulus is never degraded, only its strength. Treating its
+  // borne deviator as a (1 - D)-scaled stress (dividing it by 1 - D) makes the strain estimate
+  // grow as D grows and runs away (modified Lundborg, Y0 = 60 MPa, 1.2 mm: 96.9% failed at
+  // 100 us instead of 67%; docs/validation-lab-impact.md), as does Eq. 18 on the borne stress
+  // of the incremental coupling (DamageCoupling::incremental).
+  // The volume is that of the matrix, m / (alpha rho): a porous body's flaws are per unit
+  // volume of solid (JBM08 Sec. 3.3); without porosity alpha = 1 and the division is not made.
+  template <class T>
+  T damage_stage(const ConstitutiveColumns& c, std::size_t p, const Point<T>& pt,
+                 const strength::PlasticState<T>& ps, const T& cp, const StepParams& sp) const {
     if constexpr (Damage::kEnabled) {
       damage::DamageInput<T> in;
-      for (int k = 0; k < 6; ++k) in.s[k] = s[k];
-      for (int k = 0; k < 3; ++k) in.s[k] = in.s[k] - pres;
+      for (int k = 0; k < 6; ++k) in.s[k] = pt.s[k];
+      for (int k = 0; k < 3; ++k) in.s[k] = in.s[k] - ps.p;
       in.young = T(strength_.elastic.young);
       in.soundspeed = cp;
-      in.volume = load_or<T>(ptr(c.mass, p), 0.0) / rho;
+      in.volume = simd::load_or<T>(ptr(c.mass, p), 0.0) / pt.rho;
+      if constexpr (Porosity::kEnabled) in.volume = in.volume / pt.alpha;
       in.dplastic = ps.deps_p;
       in.dt = sp.dt;
       damage::DamageState<T> ds;
       T* fields[6] = {&ds.damage,  &ds.eps_min,   &ds.eps_max,
                       &ds.n_flaws, &ds.weibull_m, &ds.n_active};
-      for (int k = 0; k < 6; ++k) *fields[k] = load_or<T>(ptr(c.damage_state[k], p), 0.0);
-      dmg = damage_.evolve(in, ds);
+      for (int k = 0; k < 6; ++k) *fields[k] = simd::load_or<T>(ptr(c.damage_state[k], p), 0.0);
+      const T dmg = damage_.evolve(in, ds);
       ds.damage = dmg;
-      for (int k = 0; k < 6; ++k) store_if(ptr(c.damage_state[k], p), *fields[k]);
-      for (int k = 0; k < 6; ++k) store_col(c.sdev[k] + p, s[k]);
-    }
-
-    // 7. Effective stress (Eq. 14) with the viscous pressure; lagged coupling applies D^n, the
-    // others D^{n+1}.
-    const T d_sig = Damage::kEnabled && coupling_ == DamageCoupling::lagged ? d_old : dmg;
-    T sig[6];
-    if (Strength::kHasShear && incremental) {
-      effective_stress(sb, pres, av.q, d_sig, T(1.0), sig);
+      for (int k = 0; k < 6; ++k) simd::store_if(ptr(c.damage_state[k], p), *fields[k]);
+      for (int k = 0; k < 6; ++k) simd::store_col(c.sdev[k] + p, pt.s[k]);
+      return dmg;
     } else {
-      effective_stress(s, pres, av.q, d_sig, deviator_factor(d_sig), sig);
+      (void)c, (void)p, (void)pt, (void)ps, (void)cp, (void)sp;
+      return T(0.0);
     }
-    for (int k = 0; k < 6; ++k) store_col(c.stress[k] + p, sig[k]);
-
-    // 8. Energy corrector: midpoint stress sigma^{n+1/2} = (sigma^n + sigma^{n+1}) / 2.
-    const T w_new = double_contraction(de, sig);
-    store_col(c.energy + p, e_old + 0.5 * (w_old + w_new) / rho_old);
-
-    // 9. Eq. 13 with the shear stiffness of the next step's stress update, which every coupling
-    // takes at D^{n+1}, for the time step (Eq. 34): D never decreases, so that step's stress is
-    // no stiffer than this.
-    const T cp_damaged =
-        Damage::kEnabled ? longitudinal_speed(st_eos.c2, rho, shear_fraction(dmg, pres, ps)) : cp;
-    store_col(c.pressure + p, pres);
-    store_col(c.soundspeed + p, cp_damaged + av.speed);
-    store_if(ptr(c.plastic_strain, p), ps.eps_p);
-    store_if(ptr(c.heat, p), ps.heat);
   }
 
- private:
+  // 7. Effective stress (Eq. 14) with the viscous pressure; lagged coupling applies D^n, the
+  // others D^{n+1}. 8. Energy corrector: midpoint stress sigma^{n+1/2} = (sigma^n + sigma^{n+1})/2.
+  template <class T>
+  void stress_stage(const ConstitutiveColumns& c, std::size_t p, const Point<T>& pt, const T& pres,
+                    const T& q, const T& dmg) const {
+    const T d_sig = Damage::kEnabled && coupling_ == DamageCoupling::lagged ? pt.d_old : dmg;
+    T sig[6];
+    if (Strength::kHasShear && incremental()) {
+      effective_stress(pt.sb, pres, q, d_sig, T(1.0), sig);
+    } else {
+      effective_stress(pt.s, pres, q, d_sig, deviator_factor(d_sig), sig);
+    }
+    for (int k = 0; k < 6; ++k) simd::store_col(c.stress[k] + p, sig[k]);
+    const T w_new = double_contraction(pt.de, sig);
+    simd::store_col(c.energy + p, pt.e_old + 0.5 * (pt.w_old + w_new) / pt.rho_old);
+  }
+
+  bool incremental() const { return Damage::kEnabled && coupling_ == DamageCoupling::incremental; }
   static double* ptr(double* base, std::size_t p) { return base != nullptr ? base + p : nullptr; }
   static const double* ptr(const double* base, std::size_t p) {
     return base != nullptr ? base + p : nullptr;
@@ -370,10 +422,22 @@ class ComposedKernel {
     for (int k = 0; k < 3; ++k) sig[k] = sig[k] - p_eff;
   }
 
+  // The EOS point of the stored state. A distension column that a new store zero-filled is
+  // set to alpha0; one restored from a checkpoint (>= 1) is kept.
+  eos::EosPoint<double> initial_eos(const ConstitutiveColumns& c, std::size_t p) const {
+    if constexpr (Porosity::kEnabled) {
+      if (!(c.distension[p] >= 1.0)) c.distension[p] = porosity_.alpha0();
+      return porosity_.bulk(eos_, c.rho[p], c.energy[p], c.distension[p]);
+    } else {
+      return eos_.evaluate(c.rho[p], c.energy[p]);
+    }
+  }
+
   Eos eos_;
   Strength strength_;
   Damage damage_;
   DamageCoupling coupling_;
+  Porosity porosity_;
 };
 
 }  // namespace shatter::constitutive

@@ -66,6 +66,18 @@ inline double vexp(double a) {
 inline double vabs(double a) {
   return std::fabs(a);
 }
+// log and pow through the SIMD lanes too (the porosity stage, kernels/porosity), for the same
+// reason as vexp.
+inline double vlog(double a) {
+  return xsimd::log(xsimd::batch<double>(a)).get(0);
+}
+inline double vpow(double a, double b) {
+  return xsimd::pow(xsimd::batch<double>(a), xsimd::batch<double>(b)).get(0);
+}
+// Whether any lane holds: lets a stage skip work no lane of a batch needs (the P-alpha solve).
+inline bool any(bool c) {
+  return c;
+}
 template <class A>
 inline xsimd::batch<double, A> vsqrt(const xsimd::batch<double, A>& a) {
   return xsimd::sqrt(a);
@@ -73,6 +85,19 @@ inline xsimd::batch<double, A> vsqrt(const xsimd::batch<double, A>& a) {
 template <class A>
 inline xsimd::batch<double, A> vexp(const xsimd::batch<double, A>& a) {
   return xsimd::exp(a);
+}
+template <class A>
+inline xsimd::batch<double, A> vlog(const xsimd::batch<double, A>& a) {
+  return xsimd::log(a);
+}
+template <class A>
+inline xsimd::batch<double, A> vpow(const xsimd::batch<double, A>& a,
+                                    const xsimd::batch<double, A>& b) {
+  return xsimd::pow(a, b);
+}
+template <class A>
+inline bool any(const xsimd::batch_bool<double, A>& c) {
+  return xsimd::any(c);
 }
 template <class A>
 inline xsimd::batch<double, A> vabs(const xsimd::batch<double, A>& a) {

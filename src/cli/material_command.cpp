@@ -168,14 +168,153 @@ void write_list(std::ostream& out, const MaterialCatalogue& cat, bool csv) {
 }
 
 void write_summary(std::ostream& out, const MaterialSpec& spec) {
-  fmt::print(out, "# {}: eos {}, strength {}\n# source: {}\n", spec.name, spec.eos, spec.strength,
-             spec.source);
+  fmt::print(out, "# {}: eos {}, strength {}{}\n# source: {}\n", spec.name, spec.eos, spec.strength,
+             spec.porosity.empty() ? "" : ", porosity " + spec.porosity, spec.source);
 }
 
 void write_parameters(std::ostream& out, const MaterialSpec& spec) {
   out << "# parameters (SI):";
   for (const auto& [k, v] : spec.params) fmt::print(out, " {}={:g}", k, v);
   out << "\n";
+}
+
+// States: every rho with every E; rho defaults to rho0 and E to 0 (the reference state).
+void parse_states(const MaterialOptions& o, const MaterialSpec& spec, std::vector<double>& rho,
+                  std::vector<double>& energy) {
+  if (!o.rho.empty()) rho = parse_list(o.rho, "--rho");
+  if (!o.rho_sweep.empty()) {
+    const auto s = parse_sweep(o.rho_sweep, "--rho-sweep");
+    rho.insert(rho.end(), s.begin(), s.end());
+  }
+  if (!o.energy.empty()) energy = parse_list(o.energy, "--energy");
+  if (!o.energy_sweep.empty()) {
+    const auto s = parse_sweep(o.energy_sweep, "--energy-sweep");
+    energy.insert(energy.end(), s.begin(), s.end());
+  }
+  for (double r : rho) {
+    if (!(r > 0.0)) throw BadInput(fmt::format("density {} kg/m^3 must be > 0", r));
+  }
+  if (rho.empty()) rho.push_back(spec.get("rho0"));
+  if (energy.empty()) energy.push_back(0.0);
+  // Every rho with every E: two 1e6-point sweeps would print 1e12 rows (hours).
+  constexpr double kMaxRows = 1e7;
+  if (static_cast<double>(rho.size()) * static_cast<double>(energy.size()) > kMaxRows) {
+    throw BadInput(fmt::format("{} densities x {} energies is more than {:.0e} states", rho.size(),
+                               energy.size(), kMaxRows));
+  }
+}
+
+// Hugoniot particle speeds: an explicit list, or n evenly spaced up to up_max; and the reference.
+std::vector<double> parse_hugoniot(const MaterialOptions& o, HugoniotReference& ref) {
+  std::vector<double> up;
+  if (!o.up.empty()) up = parse_list(o.up, "--up");
+  if (o.up_max) {
+    if (!(*o.up_max > 0.0 && std::isfinite(*o.up_max))) {
+      throw BadInput(fmt::format("--hugoniot {} m/s must be > 0", *o.up_max));
+    }
+    if (o.points < 2 || o.points > 1000000) {
+      throw BadInput(fmt::format("--points {} must be from 2 to 1e6", o.points));
+    }
+    for (int k = 0; k < o.points; ++k) up.push_back(*o.up_max * k / (o.points - 1));
+  }
+  for (double u : up) {
+    if (!(u >= 0.0)) throw BadInput(fmt::format("particle speed {} m/s must be >= 0", u));
+  }
+  if (o.ref_rho) {
+    if (!(*o.ref_rho > 0.0)) {
+      throw BadInput(fmt::format("--ref-rho {} kg/m^3 must be > 0", *o.ref_rho));
+    }
+    ref.rho = *o.ref_rho;
+  }
+  if (o.ref_energy) {
+    if (!std::isfinite(*o.ref_energy)) {
+      throw BadInput(fmt::format("--ref-energy {} J/kg must be finite", *o.ref_energy));
+    }
+    ref.energy = *o.ref_energy;
+  }
+  return up;
+}
+
+void write_states(std::ostream& out, const MaterialSpec& spec, const std::vector<double>& rho,
+                  const std::vector<double>& energy, bool csv, bool states_wanted) {
+  std::vector<EosSample> samples;
+  samples.reserve(rho.size() * energy.size());
+  for (double r : rho) {
+    for (double e : energy) samples.push_back(probe_eos(spec, r, e));
+  }
+  if (csv) {
+    write_eos_csv(out, samples);
+    return;
+  }
+  if (!states_wanted) write_parameters(out, spec);
+  out << "\n";
+  if (!spec.porosity.empty()) out << "# matrix (solid) EOS states\n";
+  write_eos_table(out, samples);
+  if (!states_wanted && !spec.porosity.empty()) {
+    // The crush curve of the compaction model (kernels/porosity/crush.hpp).
+    fmt::print(out, "\n# crush curve ({}): distension alpha = rho_s / rho, cold bulk pressure\n",
+               spec.porosity);
+    write_crush_table(out, crush_curve(spec, 21));
+  }
+}
+
+// A porous material's Hugoniot from rest is the porous one (probe.hpp), unless a reference
+// state is given: then the matrix EOS's from that state.
+void write_hugoniot(std::ostream& out, const MaterialSpec& spec, const std::vector<double>& up,
+                    const HugoniotReference& ref, bool csv) {
+  const bool porous = !spec.porosity.empty() && ref.rho <= 0.0 && ref.energy == 0.0;
+  std::vector<HugoniotRow> rows;
+  try {
+    rows = porous ? porous_hugoniot(spec, up) : hugoniot(spec, up, ref);
+  } catch (const std::runtime_error& e) {
+    throw BadInput(e.what());  // no shocked state for some up: the request exceeds the EOS
+  }
+  if (csv) {
+    write_hugoniot_csv(out, rows);
+    return;
+  }
+  if (porous) {
+    fmt::print(out, "\n# porous Hugoniot ({}) from rho = {:g} kg/m^3, E = 0 J/kg\n", spec.porosity,
+               spec.get("rho0") / spec.get("alpha0"));
+  } else {
+    fmt::print(out, "\n# principal Hugoniot from rho = {:g} kg/m^3, E = {:g} J/kg\n",
+               ref.rho > 0.0 ? ref.rho : spec.get("rho0"), ref.energy);
+  }
+  write_hugoniot_table(out, rows);
+}
+
+int run_material(const MaterialOptions& o, std::ostream& out) {
+  const MaterialCatalogue cat =
+      o.catalogue ? MaterialCatalogue::load(*o.catalogue) : MaterialCatalogue::builtin();
+  if (o.list) {
+    // Which file: an installed shatter finds its own (builtin_catalogue_path).
+    spdlog::info("catalogue {}", (o.catalogue ? *o.catalogue : builtin_catalogue_path()).string());
+    write_list(out, cat, o.csv);
+    return kOk;
+  }
+  if (o.name.empty()) throw BadInput("name a material (or --list to see the catalogue)");
+  MaterialSpec spec = find_material(cat, o.name);
+  apply_overrides(spec, o.params);
+
+  const bool hugoniot_wanted = o.up_max.has_value() || !o.up.empty();
+  const bool states_wanted =
+      !o.rho.empty() || !o.rho_sweep.empty() || !o.energy.empty() || !o.energy_sweep.empty();
+  if (o.csv && hugoniot_wanted && states_wanted) {
+    throw BadInput(
+        "--csv writes one table: ask for states (--rho/--energy) or the Hugoniot "
+        "(--hugoniot/--up), not both");
+  }
+  std::vector<double> rho, energy;
+  parse_states(o, spec, rho, energy);
+  HugoniotReference ref;
+  const std::vector<double> up = parse_hugoniot(o, ref);
+
+  if (!o.csv) write_summary(out, spec);
+  if (states_wanted || !hugoniot_wanted) {
+    write_states(out, spec, rho, energy, o.csv, states_wanted);
+  }
+  if (hugoniot_wanted) write_hugoniot(out, spec, up, ref, o.csv);
+  return kOk;
 }
 
 }  // namespace
@@ -191,111 +330,7 @@ int material_command(const MaterialOptions& o) {
   }
   std::ostream& out = o.out ? static_cast<std::ostream&>(file) : std::cout;
   try {
-    const MaterialCatalogue cat =
-        o.catalogue ? MaterialCatalogue::load(*o.catalogue) : MaterialCatalogue::builtin();
-    if (o.list) {
-      // Which file: an installed shatter finds its own (builtin_catalogue_path).
-      spdlog::info("catalogue {}",
-                   (o.catalogue ? *o.catalogue : builtin_catalogue_path()).string());
-      write_list(out, cat, o.csv);
-      return kOk;
-    }
-    if (o.name.empty()) throw BadInput("name a material (or --list to see the catalogue)");
-    MaterialSpec spec = find_material(cat, o.name);
-    apply_overrides(spec, o.params);
-
-    const bool hugoniot_wanted = o.up_max.has_value() || !o.up.empty();
-    const bool states_wanted =
-        !o.rho.empty() || !o.rho_sweep.empty() || !o.energy.empty() || !o.energy_sweep.empty();
-    if (o.csv && hugoniot_wanted && states_wanted) {
-      throw BadInput(
-          "--csv writes one table: ask for states (--rho/--energy) or the Hugoniot "
-          "(--hugoniot/--up), not both");
-    }
-
-    // States: every rho with every E; rho defaults to rho0 and E to 0 (the reference state).
-    std::vector<double> rho, energy;
-    if (!o.rho.empty()) rho = parse_list(o.rho, "--rho");
-    if (!o.rho_sweep.empty()) {
-      const auto s = parse_sweep(o.rho_sweep, "--rho-sweep");
-      rho.insert(rho.end(), s.begin(), s.end());
-    }
-    if (!o.energy.empty()) energy = parse_list(o.energy, "--energy");
-    if (!o.energy_sweep.empty()) {
-      const auto s = parse_sweep(o.energy_sweep, "--energy-sweep");
-      energy.insert(energy.end(), s.begin(), s.end());
-    }
-    for (double r : rho) {
-      if (!(r > 0.0)) throw BadInput(fmt::format("density {} kg/m^3 must be > 0", r));
-    }
-    if (rho.empty()) rho.push_back(spec.get("rho0"));
-    if (energy.empty()) energy.push_back(0.0);
-    // Every rho with every E: two 1e6-point sweeps would print 1e12 rows (hours).
-    constexpr double kMaxRows = 1e7;
-    if (static_cast<double>(rho.size()) * static_cast<double>(energy.size()) > kMaxRows) {
-      throw BadInput(fmt::format("{} densities x {} energies is more than {:.0e} states",
-                                 rho.size(), energy.size(), kMaxRows));
-    }
-
-    // Hugoniot particle speeds: an explicit list, or n evenly spaced up to up_max.
-    std::vector<double> up;
-    if (!o.up.empty()) up = parse_list(o.up, "--up");
-    if (o.up_max) {
-      if (!(*o.up_max > 0.0 && std::isfinite(*o.up_max))) {
-        throw BadInput(fmt::format("--hugoniot {} m/s must be > 0", *o.up_max));
-      }
-      if (o.points < 2 || o.points > 1000000) {
-        throw BadInput(fmt::format("--points {} must be from 2 to 1e6", o.points));
-      }
-      for (int k = 0; k < o.points; ++k) up.push_back(*o.up_max * k / (o.points - 1));
-    }
-    for (double u : up) {
-      if (!(u >= 0.0)) throw BadInput(fmt::format("particle speed {} m/s must be >= 0", u));
-    }
-    HugoniotReference ref;
-    if (o.ref_rho) {
-      if (!(*o.ref_rho > 0.0)) {
-        throw BadInput(fmt::format("--ref-rho {} kg/m^3 must be > 0", *o.ref_rho));
-      }
-      ref.rho = *o.ref_rho;
-    }
-    if (o.ref_energy) {
-      if (!std::isfinite(*o.ref_energy)) {
-        throw BadInput(fmt::format("--ref-energy {} J/kg must be finite", *o.ref_energy));
-      }
-      ref.energy = *o.ref_energy;
-    }
-
-    if (!o.csv) write_summary(out, spec);
-    if (states_wanted || !hugoniot_wanted) {
-      std::vector<EosSample> samples;
-      samples.reserve(rho.size() * energy.size());
-      for (double r : rho) {
-        for (double e : energy) samples.push_back(probe_eos(spec, r, e));
-      }
-      if (o.csv) {
-        write_eos_csv(out, samples);
-      } else {
-        if (!states_wanted) write_parameters(out, spec);
-        out << "\n";
-        write_eos_table(out, samples);
-      }
-    }
-    if (hugoniot_wanted) {
-      std::vector<HugoniotRow> rows;
-      try {
-        rows = hugoniot(spec, up, ref);
-      } catch (const std::runtime_error& e) {
-        throw BadInput(e.what());  // no shocked state for some up: the request exceeds the EOS
-      }
-      if (o.csv) {
-        write_hugoniot_csv(out, rows);
-      } else {
-        fmt::print(out, "\n# principal Hugoniot from rho = {:g} kg/m^3, E = {:g} J/kg\n",
-                   ref.rho > 0.0 ? ref.rho : spec.get("rho0"), ref.energy);
-        write_hugoniot_table(out, rows);
-      }
-    }
+    if (const int rc = run_material(o, out); rc != kOk) return rc;
   } catch (const BadInput& e) {
     spdlog::error("{}", e.what());
     return kBadInput;

@@ -6,6 +6,8 @@
 //   eos = "tillotson"       # model names, see schema.cpp
 //   strength = "linear_hardening"
 //   rho0 = 2700.0           # every other key is a numeric parameter, SI units
+//   porosity = { model = "eps_alpha", alpha0 = 1.5, ... }   # optional compaction model
+//                           # (issue 29), its parameters numeric as the others
 // Errors name the file, the line and the key.
 
 #include <cstdlib>
@@ -47,6 +49,33 @@ std::string string_key(const std::filesystem::path& file, const std::string& mat
   return *v;
 }
 
+double number_key(const std::filesystem::path& file, const std::string& material,
+                  const std::string& key, const toml::node& v) {
+  if (!v.is_number()) {
+    fail_at(file, v.source(),
+            fmt::format("material '{}': '{}' must be a number (SI units)", material, key));
+  }
+  return *v.value<double>();
+}
+
+// porosity = { model = "...", key = number, ... }: the model into spec.porosity, the numbers into
+// spec.params (schema.cpp lists the keys; validate() refuses others and names them).
+void read_porosity(const std::filesystem::path& file, const toml::node& n, MaterialSpec& spec) {
+  const toml::table* t = n.as_table();
+  if (t == nullptr) {
+    fail_at(file, n.source(),
+            fmt::format("material '{}': 'porosity' must be a table {{ model = \"eps_alpha\" | "
+                        "\"p_alpha\", ... }}",
+                        spec.name));
+  }
+  spec.porosity = string_key(file, spec.name, *t, "model");
+  for (auto&& [k, v] : *t) {
+    const std::string key(k.str());
+    if (key == "model") continue;
+    spec.params[key] = number_key(file, spec.name, "porosity." + key, v);
+  }
+}
+
 MaterialSpec read_material(const std::filesystem::path& file, const std::string& name,
                            const toml::table& t) {
   MaterialSpec spec;
@@ -57,16 +86,20 @@ MaterialSpec read_material(const std::filesystem::path& file, const std::string&
   for (auto&& [k, v] : t) {
     const std::string key(k.str());
     if (key == "source" || key == "eos" || key == "strength") continue;
-    if (!v.is_number()) {
-      fail_at(file, v.source(),
-              fmt::format("material '{}': '{}' must be a number (SI units)", name, key));
+    if (key == "porosity") {
+      read_porosity(file, v, spec);
+      continue;
     }
-    spec.params[key] = *v.value<double>();
+    spec.params[key] = number_key(file, name, key, v);
   }
   try {
     validate(spec);
   } catch (const MaterialError& e) {
     const toml::node* n = t.get(e.key());
+    if (n == nullptr && t.get_as<toml::table>("porosity") != nullptr) {
+      const toml::table& pt = *t.get_as<toml::table>("porosity");
+      n = e.key() == "porosity" ? pt.get("model") : pt.get(e.key());
+    }
     fail_at(file, n != nullptr ? n->source() : t.source(), e.what());
   }
   return spec;

@@ -39,6 +39,7 @@ constitutive::ConstitutiveColumns gather_columns(ParticleStore& s, FieldSet need
   c.plastic_strain = needed.has(Field::plastic_strain) ? need(s, Field::plastic_strain) : nullptr;
   c.heat = needed.has(Field::heat) ? need(s, Field::heat) : nullptr;
   for (int k = 0; k < 6; ++k) c.damage_state[k] = needed.has(dmg[k]) ? need(s, dmg[k]) : nullptr;
+  c.distension = needed.has(Field::distension) ? need(s, Field::distension) : nullptr;
   return c;
 }
 

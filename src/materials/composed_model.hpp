@@ -21,24 +21,32 @@ namespace shatter::materials {
 constitutive::ConstitutiveColumns gather_columns(ParticleStore& store, FieldSet needed,
                                                  bool increments);
 
-template <class Eos, class Strength, class Damage>
+template <class Eos, class Strength, class Damage, class Porosity = porosity::NoPorosity>
 class ComposedModel final : public MaterialModel {
  public:
   ComposedModel(std::string name, Eos eos, Strength strength, Damage damage,
-                constitutive::DamageCoupling coupling)
-      : name_(std::move(name)), kernel_(eos, strength, damage, coupling) {}
+                constitutive::DamageCoupling coupling, Porosity porosity = {})
+      : name_(std::move(name)), kernel_(eos, strength, damage, coupling, porosity) {}
 
   std::string name() const override { return name_; }
 
   FieldSet fields() const override {
     // The peak-pressure tracer is every composed material's, so both solvers (MPM and SPH, which
     // call update() per group) keep it without code of their own.
-    FieldSet f = Strength::kFields | Damage::kFields | FieldSet{Field::peak_pressure};
+    FieldSet f =
+        Strength::kFields | Damage::kFields | Porosity::kFields | FieldSet{Field::peak_pressure};
     if constexpr (Damage::kEnabled) f = f | kDeviator;
     return f;
   }
 
-  double reference_density() const override { return kernel_.eos().reference_density(); }
+  // The bulk density at rest: the matrix's over the initial distension (1 without porosity).
+  double reference_density() const override {
+    if constexpr (Porosity::kEnabled) {
+      return kernel_.eos().reference_density() / kernel_.porosity().alpha0();
+    } else {
+      return kernel_.eos().reference_density();
+    }
+  }
 
   void initialise(ParticleStore& store, Range range) const override {
     kernel_.initialise(gather_columns(store, fields(), false), range.begin, range.end);
@@ -60,11 +68,13 @@ class ComposedModel final : public MaterialModel {
     for (std::size_t k = range.begin; k < range.end; ++k) peak[k] = std::max(peak[k], p[k]);
   }
 
-  const constitutive::ComposedKernel<Eos, Strength, Damage>& kernel() const { return kernel_; }
+  const constitutive::ComposedKernel<Eos, Strength, Damage, Porosity>& kernel() const {
+    return kernel_;
+  }
 
  private:
   std::string name_;
-  constitutive::ComposedKernel<Eos, Strength, Damage> kernel_;
+  constitutive::ComposedKernel<Eos, Strength, Damage, Porosity> kernel_;
 };
 
 template <class Eos>
@@ -75,6 +85,21 @@ MaterialPtr compose_with(const Eos& eos, const AnyStrength& strength, const AnyD
         using S = std::decay_t<decltype(s)>;
         using D = std::decay_t<decltype(d)>;
         return std::make_shared<const ComposedModel<Eos, S, D>>(name, eos, s, d, coupling);
+      },
+      strength, damage);
+}
+
+// The same with the porosity stage (kernels/porosity/porosity.hpp): compose_porous_<eos>.cpp.
+template <class Eos>
+MaterialPtr compose_porous_with(const Eos& eos, const AnyStrength& strength,
+                                const AnyDamage& damage, constitutive::DamageCoupling coupling,
+                                const porosity::Porous& por, const std::string& name) {
+  return std::visit(
+      [&](const auto& s, const auto& d) -> MaterialPtr {
+        using S = std::decay_t<decltype(s)>;
+        using D = std::decay_t<decltype(d)>;
+        return std::make_shared<const ComposedModel<Eos, S, D, porosity::Porous>>(name, eos, s, d,
+                                                                                  coupling, por);
       },
       strength, damage);
 }
@@ -92,5 +117,24 @@ MaterialPtr compose(const eos::LinearElastic&, const AnyStrength&, const AnyDama
                     constitutive::DamageCoupling, const std::string&);
 MaterialPtr compose(const eos::IdealGas&, const AnyStrength&, const AnyDamage&,
                     constitutive::DamageCoupling, const std::string&);
+
+MaterialPtr compose_porous(const eos::Tillotson&, const AnyStrength&, const AnyDamage&,
+                           constitutive::DamageCoupling, const porosity::Porous&,
+                           const std::string&);
+MaterialPtr compose_porous(const eos::TillotsonSimplified&, const AnyStrength&, const AnyDamage&,
+                           constitutive::DamageCoupling, const porosity::Porous&,
+                           const std::string&);
+MaterialPtr compose_porous(const eos::MieGruneisen&, const AnyStrength&, const AnyDamage&,
+                           constitutive::DamageCoupling, const porosity::Porous&,
+                           const std::string&);
+MaterialPtr compose_porous(const eos::LinearPolynomial&, const AnyStrength&, const AnyDamage&,
+                           constitutive::DamageCoupling, const porosity::Porous&,
+                           const std::string&);
+MaterialPtr compose_porous(const eos::LinearElastic&, const AnyStrength&, const AnyDamage&,
+                           constitutive::DamageCoupling, const porosity::Porous&,
+                           const std::string&);
+MaterialPtr compose_porous(const eos::IdealGas&, const AnyStrength&, const AnyDamage&,
+                           constitutive::DamageCoupling, const porosity::Porous&,
+                           const std::string&);
 
 }  // namespace shatter::materials

@@ -35,6 +35,16 @@ const std::vector<ModelSchema>& strength_schemas() {
   return k;
 }
 
+const std::vector<ModelSchema>& porosity_schemas() {
+  // eps_alpha: Wuennemann et al. 2006 with Collins et al. 2011's chi; p_alpha: Jutzi et al. 2008
+  // (kernels/porosity/crush.hpp).
+  static const std::vector<ModelSchema> k = {
+      {"eps_alpha", {"alpha0", "eps_e", "kappa", "eps_x"}, {"chi"}},
+      {"p_alpha", {"alpha0", "p_e", "p_s"}, {"crush_exponent", "c_e"}},
+  };
+  return k;
+}
+
 namespace {
 const ModelSchema* find_in(const std::vector<ModelSchema>& v, std::string_view name) {
   for (const auto& m : v) {
@@ -49,6 +59,9 @@ const ModelSchema* find_eos(std::string_view name) {
 }
 const ModelSchema* find_strength(std::string_view name) {
   return find_in(strength_schemas(), name);
+}
+const ModelSchema* find_porosity(std::string_view name) {
+  return find_in(porosity_schemas(), name);
 }
 
 std::string join_names(const std::vector<ModelSchema>& models) {

@@ -16,10 +16,13 @@ struct ModelSchema {
 
 const std::vector<ModelSchema>& eos_schemas();
 const std::vector<ModelSchema>& strength_schemas();
+// Compaction models (MaterialSpec::porosity; kernels/porosity/porosity.hpp).
+const std::vector<ModelSchema>& porosity_schemas();
 
 // nullptr when the name is unknown.
 const ModelSchema* find_eos(std::string_view name);
 const ModelSchema* find_strength(std::string_view name);
+const ModelSchema* find_porosity(std::string_view name);
 
 // "a, b, c" for messages.
 std::string join_names(const std::vector<ModelSchema>& models);

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "materials/elastic_constants.hpp"
+#include "materials/porosity_factory.hpp"
 #include "materials/schema.hpp"
 #include "shatter/material/catalogue.hpp"
 
@@ -50,24 +51,26 @@ class Checker {
   const MaterialSpec& spec_;
 };
 
-void check_keys(const MaterialSpec& spec, const ModelSchema& eos, const ModelSchema& strength) {
+void check_keys(const MaterialSpec& spec, const ModelSchema& eos, const ModelSchema& strength,
+                const ModelSchema& por) {
   std::set<std::string_view> allowed(std::begin(kCommonKeys), std::end(kCommonKeys));
-  for (const auto* m : {&eos, &strength}) {
+  for (const auto* m : {&eos, &strength, &por}) {
     allowed.insert(m->required.begin(), m->required.end());
     allowed.insert(m->optional.begin(), m->optional.end());
   }
   for (const auto& [key, v] : spec.params) {
     if (!allowed.count(key)) {
       fail(spec, key,
-           fmt::format("is not a parameter of eos '{}' or strength '{}' (allowed: {})", eos.name,
-                       strength.name,
+           fmt::format("is not a parameter of eos '{}', strength '{}' or porosity '{}' (allowed: "
+                       "{})",
+                       eos.name, strength.name, por.name.empty() ? "none" : por.name,
                        materials::join_names(
                            std::vector<std::string_view>(allowed.begin(), allowed.end()))));
     }
     if (!std::isfinite(v)) fail(spec, key, "is not a finite number");
   }
   if (!spec.params.count("rho0")) fail(spec, "rho0", "is missing (reference density, kg/m^3)");
-  for (const auto* m : {&eos, &strength}) {
+  for (const auto* m : {&eos, &strength, &por}) {
     for (auto key : m->required) {
       if (!spec.params.count(std::string(key))) {
         fail(spec, key, fmt::format("is missing (required by '{}')", m->name));
@@ -202,11 +205,20 @@ void validate(const MaterialSpec& spec) {
          fmt::format("= '{}' is not a known strength model (known: {})", spec.strength,
                      materials::join_names(materials::strength_schemas())));
   }
-  check_keys(spec, *eos, *strength);
+  static const ModelSchema kNoPorosity{"", {}, {}};
+  const ModelSchema* por =
+      spec.porosity.empty() ? &kNoPorosity : materials::find_porosity(spec.porosity);
+  if (por == nullptr) {
+    fail(spec, "porosity",
+         fmt::format("= '{}' is not a known compaction model (known: {})", spec.porosity,
+                     materials::join_names(materials::porosity_schemas())));
+  }
+  check_keys(spec, *eos, *strength, *por);
   const Checker c(spec);
   check_eos(spec, c);
   check_strength(spec, c);
   check_ranges(spec, c);
+  materials::check_porosity(spec);
 }
 
 double MaterialSpec::get(std::string_view key) const {

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -251,6 +252,40 @@ TEST(MaterialCommand, OutWritesTheFileAndNothingToStdout) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   EXPECT_EQ(csv_rows(slurp(file)).size(), 4u);
+}
+
+}  // namespace
+}  // namespace shatter
+
+namespace shatter {
+namespace {
+
+// A porous material (issue 29): the summary names the compaction model and prints its crush
+// curve; the Hugoniot from rest is the porous one (probe.hpp porous_hugoniot), starting at the
+// bulk density rho0 / alpha0.
+TEST(MaterialCommand, PorousMaterialPrintsCrushCurveAndPorousHugoniot) {
+  const auto r = shatter_material({"porous_basalt"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("porosity eps_alpha"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("# crush curve (eps_alpha)"), std::string::npos) << r.out;
+  const auto cat = MaterialCatalogue::builtin();
+  const auto rows = crush_curve(cat.get("porous_basalt"), 21);
+  char cell[32];
+  for (std::size_t k : {std::size_t{0}, std::size_t{10}, std::size_t{20}}) {
+    std::snprintf(cell, sizeof cell, " %.6f ", rows[k].alpha);  // the table's alpha column
+    EXPECT_NE(r.out.find(cell), std::string::npos) << cell << "\n" << r.out;
+  }
+
+  const auto h = shatter_material({"porous_basalt", "--up", "500", "--csv"});
+  ASSERT_EQ(h.code, 0) << h.err;
+  const auto csv = csv_rows(h.out);
+  ASSERT_EQ(csv.size(), 2u);
+  const double up[] = {500.0};
+  const auto want = porous_hugoniot(cat.get("porous_basalt"), up).front();
+  EXPECT_NEAR(std::stod(csv[1][2]), want.p, 1e-9 * want.p);  // printed with 17 digits
+  const auto human = shatter_material({"porous_basalt", "--up", "500"});
+  EXPECT_NE(human.out.find("porous Hugoniot (eps_alpha) from rho = 2160"), std::string::npos)
+      << human.out;
 }
 
 }  // namespace

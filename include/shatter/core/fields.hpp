@@ -75,6 +75,9 @@ enum class Field : std::uint8_t {
   vgrad_zz,
   // tracer: the largest pressure a point has seen (Pa), kept by the constitutive update
   peak_pressure,
+  // porous compaction state (issue 29): distension alpha = rho_s / rho, kept by the porosity
+  // stage of the constitutive update (kernels/porosity)
+  distension,
   kCount
 };
 
@@ -90,7 +93,7 @@ inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "sdev_xx",  "sdev_yy",  "sdev_zz",  "sdev_xy",  "sdev_yz",    "sdev_xz",   "plastic_strain",
     "heat",     "damage",   "eps_min",  "eps_max",  "n_flaws",    "weibull_m", "n_active",
     "vgrad_xx", "vgrad_xy", "vgrad_xz", "vgrad_yx", "vgrad_yy",   "vgrad_yz",  "vgrad_zx",
-    "vgrad_zy", "vgrad_zz", "peak_pressure"};
+    "vgrad_zy", "vgrad_zz", "peak_pressure", "distension"};
 // clang-format on
 
 // Integer columns (64-bit so that particle ids never overflow).

@@ -24,6 +24,10 @@ struct MaterialSpec {
                          // linear_elastic | ideal_gas
   std::string strength;  // hydro | elastic | von_mises | linear_hardening | benz_asphaug |
                          // drucker_prager | lundborg | modified_lundborg
+  // Compaction model of a porous material (issue 29; kernels/porosity): empty (none) |
+  // eps_alpha | p_alpha. In a catalogue file the sub-table porosity = { model = "...", ... };
+  // its parameters (alpha0, eps_e, kappa, ...) live in params with the others.
+  std::string porosity{};
   std::map<std::string, double> params;
 
   double get(std::string_view key) const;  // throws naming the material and key if absent

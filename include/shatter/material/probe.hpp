@@ -52,6 +52,25 @@ std::vector<HugoniotRow> hugoniot(const MaterialSpec& spec, std::span<const doub
 std::vector<HugoniotRow> hugoniot(const MaterialSpec& spec, double up_max, int n,
                                   HugoniotReference ref = {});
 
+// Porous materials (MaterialSpec::porosity, issue 29; kernels/porosity). The crush curve: n
+// points of distension alpha against volumetric strain eps_V = ln(rho00 / rho) (eps_alpha, from 0
+// to 1.1 eps_c of W06 Eq. 10) or against bulk pressure (p_alpha, from 0 to 1.2 p_s), with the
+// bulk density and the cold (E = 0) bulk pressure p_s(alpha rho, 0) / alpha of each point.
+struct CrushRow {
+  double eps_v = 0.0;     // volumetric strain from the initial bulk density (< 0 compressed)
+  double pressure = 0.0;  // bulk pressure, Pa
+  double alpha = 1.0;     // distension rho_s / rho
+  double rho = 0.0;       // bulk density, kg/m^3
+};
+// Throws std::invalid_argument for a material without porosity; n >= 2.
+std::vector<CrushRow> crush_curve(const MaterialSpec& spec, int n);
+void write_crush_table(std::ostream& out, std::span<const CrushRow> rows);
+void write_crush_csv(std::ostream& out, std::span<const CrushRow> rows);
+// The porous Hugoniot from the material at rest (rho0 / alpha0, E = 0, p = 0): the jump
+// conditions solved with the kernel's own porosity policy (compaction to the crush curve, then
+// p = p_s(alpha rho, E) / alpha). Throws std::runtime_error where no root is bracketed.
+std::vector<HugoniotRow> porous_hugoniot(const MaterialSpec& spec, std::span<const double> up);
+
 // Writers: CSV with units in the header, and an aligned human-readable table.
 void write_hugoniot_csv(std::ostream& out, std::span<const HugoniotRow> rows);
 void write_hugoniot_table(std::ostream& out, std::span<const HugoniotRow> rows);

@@ -1,0 +1,149 @@
+#pragma once
+// The porosity stage of the composed constitutive kernel (issue 29; composed_kernel.hpp step 3):
+// a policy that turns the solid-matrix EOS into the EOS of the porous bulk and evolves the
+// distension alpha = rho_s / rho (Field::distension) of each point.
+//
+//   NoPorosity: the EOS as it is; no column, no cost (compile-time composition).
+//   Porous:     the matrix EOS at rho_s = alpha rho and the bulk pressure p = p_s(alpha rho, E) /
+//               alpha (Carroll & Holt 1972 Eq. 5; W06 Eq. 3; JBM08 Eq. 5), with alpha from one of
+//               the two crush curves of kernels/porosity/crush.hpp:
+//     eps_alpha: alpha(eps_V) of W06 Eqs. 8-10, eps_V = ln(rho_00 / rho) the volumetric strain
+//                from the initial bulk density rho_00 = rho_s0 / alpha0 (a state function of the
+//                point's density, so no strain column is needed), with the elastic regime of
+//                Collins, Melosh & Wuennemann 2011 (IJIE 38, 434, "CMW11") Eq. 6:
+//                d alpha / d eps_V = alpha (1 - (c_e/c_s)^2) for eps_e < eps_V < 0, and c_e/c_s
+//                interpolated linearly in alpha from chi (at alpha0) to 1 (at alpha = 1).
+//     p_alpha:   alpha(P) of JBM08 Eq. 8 at the bulk pressure P = p_s(alpha rho, E) / alpha,
+//                solved for alpha by bisection (the crush curve and the EOS are coupled through
+//                P); sound speed JBM08 Eq. 9: c = c_s + (alpha - 1)/(alpha0 - 1) (c_e - c_s).
+// Compaction is irreversible: alpha never exceeds the value it had (alpha_new = min(alpha_old,
+// crush)), except in eps-alpha's reversible elastic regime. Both models choose per material, at
+// run time and per group (one branch per batch, no lane divergence): one policy type instead of
+// two halves the kernels the porous materials add to the build.
+//
+// The compaction work needs no term of its own: the kernel's energy update is the p dV work of
+// the bulk stress on the bulk volume change, which includes the work of closing the pores.
+
+#include "constitutive/simd.hpp"
+#include "eos/eos_common.hpp"
+#include "porosity/crush.hpp"
+#include "shatter/core/fields.hpp"
+
+namespace shatter::porosity {
+
+struct NoPorosity {
+  static constexpr bool kEnabled = false;
+  static constexpr FieldSet kFields{};
+  double alpha0() const { return 1.0; }
+};
+
+enum class Model { eps_alpha, p_alpha };
+
+class Porous {
+ public:
+  static constexpr bool kEnabled = true;
+  static constexpr FieldSet kFields{Field::distension};
+  // Bisection steps of the P-alpha solve: the bracket [1, alpha_old] shrinks to
+  // (alpha0 - 1) 2^-40, below 1e-12 for any alpha0 < 100.
+  static constexpr int kBisections = 40;
+
+  // rho_s0: the reference density of the matrix EOS.
+  static Porous eps_alpha(const EpsAlphaParams& q, double rho_s0) {
+    Porous m(Model::eps_alpha, q.alpha0);
+    m.ea_ = q;
+    m.alpha_x_ = q.alpha_x();
+    m.eps_c_ = q.eps_c();
+    m.rho00_ = rho_s0 / q.alpha0;
+    return m;
+  }
+  static Porous p_alpha(const PAlphaParams& q) {
+    Porous m(Model::p_alpha, q.alpha0);
+    m.pa_ = q;
+    return m;
+  }
+
+  Model model() const { return model_; }
+  double alpha0() const { return alpha0_; }
+  const EpsAlphaParams& eps_params() const { return ea_; }
+  const PAlphaParams& p_params() const { return pa_; }
+
+  // The crush curve of eps-alpha at volumetric strain eps (W06 Eqs. 8-10).
+  template <class T>
+  T crush_eps(const T& eps) const {
+    return eps_alpha_crush(ea_, alpha_x_, eps_c_, eps);
+  }
+
+  // The bulk EOS point at distension alpha: p = p_s(alpha rho, E) / alpha and c^2 of the
+  // model's porous sound speed. At alpha = 1 both are the matrix EOS's values bit for bit.
+  template <class Eos, class T>
+  eos::EosPoint<T> bulk(const Eos& eos, const T& rho, const T& e, const T& alpha) const {
+    const auto s = eos.evaluate(alpha * rho, e);
+    const T frac = (alpha - 1.0) * inv_alpha0_m1_;  // 1 at alpha0, 0 when fully compacted
+    T c2 = s.c2;
+    if (model_ == Model::eps_alpha) {
+      const T r = 1.0 + frac * (ea_.chi - 1.0);  // c_e / c_s (CMW11 Sec. 2.1)
+      c2 = s.c2 * r * r;
+    } else if (pa_.c_e > 0.0) {
+      const T cs = simd::vsqrt(s.c2);
+      const T c = cs + frac * (pa_.c_e - cs);  // JBM08 Eq. 9
+      c2 = c * c;
+    }
+    return {s.p / alpha, simd::vselect(alpha > 1.0, c2, s.c2)};
+  }
+
+  // The distension at the end of a step from rho_old to rho at energy e (irreversible).
+  template <class Eos, class T>
+  T compact(const Eos& eos, const T& rho, const T& rho_old, const T& e, const T& alpha_old) const {
+    if (model_ == Model::eps_alpha) return compact_eps(rho, rho_old, alpha_old);
+    return compact_p(eos, rho, e, alpha_old);
+  }
+
+ private:
+  Porous(Model m, double alpha0)
+      : model_(m), alpha0_(alpha0), inv_alpha0_m1_(alpha0 > 1.0 ? 1.0 / (alpha0 - 1.0) : 0.0) {}
+
+  template <class T>
+  T compact_eps(const T& rho, const T& rho_old, const T& alpha_old) const {
+    const T eps = simd::vlog(rho00_ / rho);  // eps_V = ln(V / V_00), < 0 in compression
+    T a = alpha_old;
+    if (ea_.chi != 1.0) {
+      // CMW11 Eq. 6 over the step, exact for alpha's factor held at its start value.
+      const T eps_old = simd::vlog(rho00_ / rho_old);
+      const T r = 1.0 + (alpha_old - 1.0) * inv_alpha0_m1_ * (ea_.chi - 1.0);
+      const T el = alpha_old * simd::vexp((1.0 - r * r) * (eps - eps_old));
+      const auto elastic = (eps > ea_.eps_e) && (eps < 0.0);
+      a = simd::vselect(elastic, simd::vmin(el, T(alpha0_)), a);
+    }
+    return simd::vmax(simd::vmin(a, crush_eps(eps)), T(1.0));
+  }
+
+  // JBM08: alpha = min(alpha_old, alpha(P(alpha))). h(a) = a - crush(p_s(a rho, e) / a) is <= 0
+  // at a = 1 (the crush curve is >= 1) and > 0 at alpha_old where compaction is due; the root
+  // between is bracketed and bisected, and the end where h <= 0 is returned: a state that
+  // satisfies alpha <= crush(P(alpha)), so a reload to the same density does not compact again
+  // (over-compaction by at most (alpha0 - 1) 2^-40). Lanes that do not compact keep alpha_old,
+  // and a batch where none does skips the solve.
+  template <class Eos, class T>
+  T compact_p(const Eos& eos, const T& rho, const T& e, const T& alpha_old) const {
+    auto h = [&](const T& a) { return a - p_alpha_crush(pa_, eos.evaluate(a * rho, e).p / a); };
+    const auto need = h(alpha_old) > 0.0;
+    if (!simd::any(need)) return alpha_old;
+    T lo(1.0), hi = alpha_old;
+    for (int i = 0; i < kBisections; ++i) {
+      const T mid = 0.5 * (lo + hi);
+      const auto above = h(mid) > 0.0;
+      hi = simd::vselect(above, mid, hi);
+      lo = simd::vselect(above, lo, mid);
+    }
+    return simd::vselect(need, lo, alpha_old);
+  }
+
+  Model model_;
+  double alpha0_;
+  double inv_alpha0_m1_;  // 1 / (alpha0 - 1), 0 for alpha0 = 1
+  EpsAlphaParams ea_{};
+  double alpha_x_ = 1.0, eps_c_ = 0.0, rho00_ = 1.0;
+  PAlphaParams pa_{};
+};
+
+}  // namespace shatter::porosity

@@ -1,0 +1,77 @@
+#include "materials/porosity_factory.hpp"
+
+#include <string>
+#include <string_view>
+
+#include <fmt/format.h>
+
+namespace shatter::materials {
+
+namespace {
+
+double opt(const MaterialSpec& s, const char* key, double fallback) {
+  const auto it = s.params.find(key);
+  return it == s.params.end() ? fallback : it->second;
+}
+
+[[noreturn]] void fail(const MaterialSpec& spec, std::string_view key, const std::string& why) {
+  throw MaterialError(fmt::format("material '{}': '{}' = {} {} (porosity '{}')", spec.name, key,
+                                  spec.get(key), why, spec.porosity),
+                      std::string(key));
+}
+
+void require(const MaterialSpec& spec, std::string_view key, bool ok, const char* why) {
+  if (!ok) fail(spec, key, why);
+}
+
+}  // namespace
+
+void check_porosity(const MaterialSpec& spec) {
+  if (spec.porosity.empty()) return;
+  const double a0 = spec.get("alpha0");
+  require(spec, "alpha0", a0 >= 1.0 && a0 <= 100.0,
+          "must be in [1, 100] (distension rho_s / rho: 1 is solid, 100 is 99% porosity)");
+  if (spec.porosity == "eps_alpha") {
+    const double ee = spec.get("eps_e"), k = spec.get("kappa"), ex = spec.get("eps_x");
+    require(spec, "eps_e", ee <= 0.0 && ee > -1.0,
+            "must be in (-1, 0] (the volumetric strain where compaction starts; < 0 is "
+            "compression)");
+    // kappa > 1 would compact the pores faster than the bulk shrinks: the matrix would expand
+    // under compression (d ln rho_s = -(1 - kappa) d eps_V, W06 Sec. 2).
+    require(spec, "kappa", k > 0.0 && k <= 1.0, "must be in (0, 1]");
+    require(spec, "eps_x", ex <= ee, "must be <= eps_e (the exponential regime starts at eps_e)");
+    const double chi = opt(spec, "chi", 1.0);
+    if (!(chi > 0.0 && chi <= 1.0)) {
+      require(spec, "chi", false, "must be in (0, 1] (c_e / c_s: the porous body is not stiffer)");
+    }
+  } else if (spec.porosity == "p_alpha") {
+    const double pe = spec.get("p_e"), ps = spec.get("p_s");
+    require(spec, "p_e", pe >= 0.0, "must be >= 0 Pa");
+    require(spec, "p_s", ps > pe, "must exceed p_e (full compaction above the elastic limit)");
+    if (!(opt(spec, "crush_exponent", 2.0) > 0.0)) {
+      require(spec, "crush_exponent", false, "must be > 0");
+    }
+    if (!(opt(spec, "c_e", 0.0) >= 0.0)) require(spec, "c_e", false, "must be >= 0 m/s");
+  }
+}
+
+porosity::Porous make_porosity(const MaterialSpec& s) {
+  if (s.porosity == "eps_alpha") {
+    porosity::EpsAlphaParams q;
+    q.alpha0 = s.get("alpha0");
+    q.eps_e = s.get("eps_e");
+    q.kappa = s.get("kappa");
+    q.eps_x = s.get("eps_x");
+    q.chi = opt(s, "chi", 1.0);
+    return porosity::Porous::eps_alpha(q, s.get("rho0"));
+  }
+  porosity::PAlphaParams q;
+  q.alpha0 = s.get("alpha0");
+  q.p_e = s.get("p_e");
+  q.p_s = s.get("p_s");
+  q.n = opt(s, "crush_exponent", 2.0);
+  q.c_e = opt(s, "c_e", 0.0);
+  return porosity::Porous::p_alpha(q);
+}
+
+}  // namespace shatter::materials

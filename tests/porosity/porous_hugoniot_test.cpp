@@ -1,0 +1,251 @@
+// Porous Hugoniot (issue 29, verification): a planar symmetric impact of two porous basalt slabs
+// (eps-alpha, Wuennemann et al. 2006; P-alpha, Jutzi et al. 2008) through the whole MPM step. The
+// compacted state at rest between the two outgoing shocks must carry the pressure and density, and
+// the shocks must run at the speed, of the Rankine-Hugoniot jump from the unshocked porous state,
+// solved here independently of the kernel: W06 Eqs. 8-10 written out, the matrix Tillotson EOS, and
+//   mass:     rho00 U = rho1 (U - up)
+//   momentum: P1 = rho00 U up
+//   energy:   E1 = P1 (1/rho00 - 1/rho1) / 2 = up^2 / 2
+//   state:    P1 = P_s(alpha1 rho1, E1) / alpha1, alpha1 = alpha(eps1), eps1 = ln(rho00 / rho1)
+//             (eps-alpha), or alpha1 = alpha(P1) (P-alpha)
+// The total energy is checked too: the compaction work must appear as internal energy.
+
+// GCC 12 false positive inside AVX-512 intrinsics (PR 105593), see constitutive/simd.hpp; it
+// must be silenced before the intrinsic headers are first included.
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#endif
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <tuple>
+
+#include "eos/tillotson.hpp"
+#include "shatter/material/catalogue.hpp"
+#include "shatter/mpm/simulation.hpp"
+#include "support/lattice.hpp"
+
+namespace shatter {
+namespace {
+
+const eos::TillotsonParams kBasalt{2700.0, 26.7e9, 26.7e9, 0.5, 1.5, 487e6,
+                                   4.72e6, 18.2e6, 2000.0, 5.0, 5.0};
+constexpr double kEpsE = -1e-5, kKappa = 0.98, kEpsX = -0.1;
+
+// W06 Eqs. 8-10.
+double w06_alpha(double a0, double eps) {
+  const double ax = a0 * std::exp(kKappa * (kEpsX - kEpsE));
+  const double ec = 2.0 * (1.0 - ax) / (kKappa * ax) + kEpsX;
+  if (eps >= kEpsE) return a0;
+  if (eps >= kEpsX) return a0 * std::exp(kKappa * (eps - kEpsE));
+  if (eps > ec) return 1.0 + (ax - 1.0) * std::pow((ec - eps) / (ec - kEpsX), 2.0);
+  return 1.0;
+}
+
+// JBM08 Eq. 8 (quadratic) with p_e = 1 MPa, p_s = 5 GPa: partly compacted at up = 500 m/s.
+constexpr double kPe = 1e6, kPs = 5e9;
+double jbm08_alpha(double a0, double p) {
+  if (p <= kPe) return a0;
+  if (p >= kPs) return 1.0;
+  return 1.0 + (a0 - 1.0) * std::pow((kPs - p) / (kPs - kPe), 2.0);
+}
+
+// The distension of the porous state at (rho, E): W06 from the strain; for P-alpha the root of
+// a = crush(P_s(a rho, E) / a) on [1, a0] by bisection (h(1) <= 0 < h(a0) when compacting).
+double model_alpha(bool p_alpha, double a0, double rho, double e) {
+  const double rho00 = kBasalt.rho0 / a0;
+  if (!p_alpha) return w06_alpha(a0, std::log(rho00 / rho));
+  const eos::Tillotson eos(kBasalt);
+  auto h = [&](double a) { return a - jbm08_alpha(a0, eos.evaluate<double>(a * rho, e).p / a); };
+  if (!(h(a0) > 0.0)) return a0;
+  double lo = 1.0, hi = a0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (h(mid) > 0.0 ? hi : lo) = mid;
+  }
+  return lo;
+}
+
+struct Jump {
+  double rho, p, us, alpha;
+};
+
+// The jump at particle speed up into porous material at rest (rho00, E = 0, P = 0): bisection on
+// rho1 of P_model(rho1, up^2/2) - rho00 up^2 rho1 / (rho1 - rho00).
+Jump porous_jump(bool p_alpha, double a0, double up) {
+  const eos::Tillotson eos(kBasalt);
+  const double rho00 = kBasalt.rho0 / a0, e1 = 0.5 * up * up;
+  auto residual = [&](double rho1) {
+    const double a = model_alpha(p_alpha, a0, rho1, e1);
+    return eos.evaluate<double>(a * rho1, e1).p / a - rho00 * up * up * rho1 / (rho1 - rho00);
+  };
+  double lo = rho00 * (1.0 + 1e-9), hi = 1.5 * kBasalt.rho0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (residual(mid) > 0.0 ? hi : lo) = mid;
+  }
+  const double rho1 = 0.5 * (lo + hi), us = up * rho1 / (rho1 - rho00);
+  return {rho1, rho00 * us * up, us, model_alpha(p_alpha, a0, rho1, e1)};
+}
+
+MaterialSpec porous_basalt(bool p_alpha, double a0) {
+  MaterialSpec s;
+  s.name = "porous";
+  s.source = "test";
+  s.eos = "tillotson";
+  s.strength = "hydro";
+  s.porosity = p_alpha ? "p_alpha" : "eps_alpha";
+  s.params = {{"rho0", 2700.0},   {"A", 26.7e9},  {"B", 26.7e9},   {"a", 0.5},
+              {"b", 1.5},         {"E0", 487e6},  {"Eiv", 4.72e6}, {"Ecv", 18.2e6},
+              {"rho_iv", 2000.0}, {"alpha", 5.0}, {"beta", 5.0},   {"alpha0", a0}};
+  if (p_alpha) {
+    s.params.insert({{"p_e", kPe}, {"p_s", kPs}});
+  } else {
+    s.params.insert({{"eps_e", kEpsE}, {"kappa", kKappa}, {"eps_x", kEpsX}, {"chi", 1.0}});
+  }
+  return s;
+}
+
+struct Measured {
+  double p, rho, alpha, front_speed, rest_speed, energy_error;
+};
+
+Measured run_impact(bool p_alpha, double a0, double up, double h, const Jump& j) {
+  const auto mat = make_material(porous_basalt(p_alpha, a0));
+  const double rho00 = kBasalt.rho0 / a0, len = 0.2;
+  ParticleStore s;
+  test::add_box(s, 0, {-len, 0, 0}, {0.0, h, h}, h / 2, rho00, {up, 0, 0});
+  test::add_box(s, 0, {0.0, 0, 0}, {len, h, h}, h / 2, rho00, {-up, 0, 0});
+  SolverConfig cfg;
+  cfg.cell_size = h;
+  cfg.domain.lo = {-2 * len, 0, 0};
+  cfg.domain.hi = {2 * len, h, h};
+  cfg.domain.faces = {BoundaryKind::none, BoundaryKind::none, BoundaryKind::slip,
+                      BoundaryKind::slip, BoundaryKind::slip, BoundaryKind::slip};
+  cfg.viscosity = {0.5, 1.5};
+  Simulation sim(cfg, std::move(s), {mat}, 1);
+  const double e0 = sim.energy().initial;
+
+  auto front = [&] {
+    double x_front = 0.0;
+    const double half_rho = 0.5 * (rho00 + j.rho);
+    const auto& P = sim.particles();
+    for (std::size_t p = 0; p < P.size(); ++p) {
+      if (P.col(Field::rho)[p] > half_rho) x_front = std::max(x_front, P.col(Field::x)[p]);
+    }
+    return x_front;
+  };
+  // The front runs at Us - up in the frame of the compacted (resting) material: 90 mm by t2.
+  const double t2 = 0.09 / (j.us - up), t1 = 0.4 * t2;
+  sim.advance_to(t1);
+  const double x1 = front();
+  sim.advance_to(t2);
+  const double x2 = front();
+
+  const auto& P = sim.particles();
+  Measured m{0, 0, 0, (x2 - x1) / (t2 - t1), 0, 0};
+  int n = 0;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const double x = std::abs(P.col(Field::x)[p]);
+    if (x > 5 * h && x < x2 - 5 * h) {  // past the wall-heating layer, behind the front's ramp
+      m.p += P.col(Field::pressure)[p];
+      m.rho += P.col(Field::rho)[p];
+      m.alpha += P.col(Field::distension)[p];
+      m.rest_speed += std::abs(P.col(Field::vx)[p]);
+      ++n;
+    }
+  }
+  EXPECT_GT(n, 100);
+  m.p /= n;
+  m.rho /= n;
+  m.alpha /= n;
+  m.rest_speed /= n;
+  m.energy_error = std::abs(sim.energy().total() - e0) / e0;
+  return m;
+}
+
+class PorousHugoniot : public ::testing::TestWithParam<std::tuple<bool, double>> {};
+
+TEST_P(PorousHugoniot, CompactedStateAndShockSpeedMatchJumpConditions) {
+  const auto [p_alpha, a0] = GetParam();
+  const double up = 500.0, h = 2e-3;
+  const Jump j = porous_jump(p_alpha, a0, up);
+  const Measured m = run_impact(p_alpha, a0, up, h, j);
+  std::printf(
+      "%s alpha0 = %.2f, up = %.0f m/s, h = %.0f mm:\n"
+      "  P   %.4g Pa (jump %.4g, %+.2f%%)\n"
+      "  rho %.1f kg/m^3 (jump %.1f, %+.2f%%), alpha %.4f (jump %.4f)\n"
+      "  Us-up %.1f m/s (jump %.1f, %+.2f%%), |v| behind %.2f m/s, energy error %.2e\n",
+      p_alpha ? "P-alpha" : "eps-alpha", a0, up, h * 1e3, m.p, j.p, 100 * (m.p / j.p - 1), m.rho,
+      j.rho, 100 * (m.rho / j.rho - 1), m.alpha, j.alpha, m.front_speed, j.us - up,
+      100 * (m.front_speed / (j.us - up) - 1), m.rest_speed, m.energy_error);
+  // Tolerances (docs/validation-porosity.md): pressure 3% and density 1.5% as the solid planar
+  // impact test (viscous smearing, MPM transfer noise); the density behind a compaction shock
+  // sits on the steep part of the porous Hugoniot, where a 1% density error is a larger
+  // pressure error, so the density bound is the tighter. Front speed from two snapshots each
+  // located to ~h/2 over a 54 mm run: 2%, bound 4%. A wrong p_s / alpha, a crush curve off by
+  // one regime or a missing compaction term moves these by far more (alpha0 = 1.25 -> 1.5 moves
+  // P by 25%).
+  EXPECT_NEAR(m.p, j.p, 0.03 * j.p);
+  EXPECT_NEAR(m.rho, j.rho, 0.015 * j.rho);
+  EXPECT_NEAR(m.front_speed, j.us - up, 0.04 * (j.us - up));
+  // Distension behind the shock: the 1.5% density bound moves alpha by up to ~0.02 on the
+  // crush curves' steepest parts here; measured within 0.002, bound 0.01.
+  EXPECT_NEAR(m.alpha, j.alpha, 0.01);
+  EXPECT_LT(m.rest_speed, 0.03 * up);
+  // Energy: compaction work is p dV work of the bulk and stays in the budget (kinetic +
+  // internal); 1% as the MPM energy checks elsewhere allow for the transfers.
+  EXPECT_LT(m.energy_error, 0.01);
+}
+
+INSTANTIATE_TEST_SUITE_P(EpsAlpha, PorousHugoniot,
+                         ::testing::Combine(::testing::Values(false),
+                                            ::testing::Values(1.25, 1.5, 2.0)));
+INSTANTIATE_TEST_SUITE_P(PAlpha, PorousHugoniot,
+                         ::testing::Combine(::testing::Values(true), ::testing::Values(1.25, 1.5)));
+
+}  // namespace
+}  // namespace shatter
+
+namespace shatter {
+namespace {
+
+// The same porous impact on 1 and 2 threads gives the same bits (the constitutive update is per
+// point; the tail/batch split does not depend on the thread count because the scalar tail uses
+// the lanes' exp and log, constitutive/simd.hpp).
+TEST(PorousDeterminism, ThreadCountDoesNotChangeTheBits) {
+  auto run = [](int threads) {
+    const auto mat = make_material(porous_basalt(false, 1.5));
+    const double rho00 = 1800.0, h = 2e-3, len = 0.05;
+    ParticleStore s;
+    test::add_box(s, 0, {-len, 0, 0}, {0.0, h, h}, h / 2, rho00, {500.0, 0, 0});
+    test::add_box(s, 0, {0.0, 0, 0}, {len, h, h}, h / 2, rho00, {-500.0, 0, 0});
+    SolverConfig cfg;
+    cfg.cell_size = h;
+    cfg.domain.lo = {-2 * len, 0, 0};
+    cfg.domain.hi = {2 * len, h, h};
+    cfg.domain.faces = {BoundaryKind::none, BoundaryKind::none, BoundaryKind::slip,
+                        BoundaryKind::slip, BoundaryKind::slip, BoundaryKind::slip};
+    cfg.viscosity = {0.5, 1.5};
+    Simulation sim(cfg, std::move(s), {mat}, threads);
+    sim.advance_to(10e-6);
+    return sim.particles();
+  };
+  const ParticleStore a = run(1), b = run(2);
+  ASSERT_EQ(a.size(), b.size());
+  int compacted = 0;
+  for (Field f :
+       {Field::x, Field::vx, Field::rho, Field::energy, Field::pressure, Field::distension}) {
+    for (std::size_t p = 0; p < a.size(); ++p) {
+      ASSERT_EQ(a.col(f)[p], b.col(f)[p]) << name_of(f) << " " << p;
+    }
+  }
+  for (std::size_t p = 0; p < a.size(); ++p) compacted += a.col(Field::distension)[p] < 1.4;
+  EXPECT_GT(compacted, 20);  // the shocks have crushed part of the slabs
+}
+
+}  // namespace
+}  // namespace shatter
