@@ -2,6 +2,11 @@
 
 #include "shatter/fracture/bound_remnant.hpp"
 
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
 #include <Eigen/Dense>
 
 namespace shatter {
@@ -80,6 +85,28 @@ BoundRemnant bound_remnant(const FragmentCatalogue& cat, double G) {
   }
   add_spin(cat, r);
   return r;
+}
+
+void write_bound_remnant_json(const BoundRemnant& r, const FragmentCatalogue& cat,
+                              const std::filesystem::path& file) {
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error(fmt::format("cannot write {}", file.string()));
+  const auto vec = [](const Eigen::Vector3d& v) {
+    return fmt::format("[{:.17g}, {:.17g}, {:.17g}]", v.x(), v.y(), v.z());
+  };
+  std::string ids;
+  for (std::size_t k = 0; k < r.members.size(); ++k) {
+    ids += fmt::format("{}{}", k ? ", " : "", r.members[k]);
+  }
+  out << fmt::format(
+      "{{\n  \"criterion\": \"Benz & Asphaug 1999 iterative energy criterion, fragments as "
+      "point masses, dust excluded\",\n  \"mass_kg\": {:.17g},\n  \"mass_fraction\": {:.17g},\n"
+      "  \"centre_m\": {},\n  \"velocity_m_per_s\": {},\n  \"speed_m_per_s\": {:.17g},\n"
+      "  \"angular_momentum_kg_m2_per_s\": {},\n  \"spin_rad_per_s\": {},\n"
+      "  \"spin_rate_rad_per_s\": {:.17g},\n  \"fragments\": [{}],\n  \"passes\": {}\n}}\n",
+      r.mass, cat.total_mass > 0.0 ? r.mass / cat.total_mass : 0.0, vec(r.centre), vec(r.velocity),
+      r.speed(), vec(r.angular_momentum), vec(r.omega), r.spin(), ids, r.iterations);
+  if (!out) throw std::runtime_error(fmt::format("error writing {}", file.string()));
 }
 
 }  // namespace shatter

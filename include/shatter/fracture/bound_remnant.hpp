@@ -9,6 +9,7 @@
 // src/fracture/bound_remnant.cpp.
 
 #include <cstdint>
+#include <filesystem>
 #include <vector>
 
 #include <Eigen/Core>
@@ -32,5 +33,10 @@ struct BoundRemnant {
 
 // G: the constant of gravitation (gravity::kNewtonG in SI; other values for tests in G = 1 units).
 BoundRemnant bound_remnant(const FragmentCatalogue& cat, double G);
+
+// PREFIX_bound.json beside the fragment table: mass (kg and fraction of the total), centre,
+// velocity and speed, spin vector and rate, member fragment ids, passes.
+void write_bound_remnant_json(const BoundRemnant& r, const FragmentCatalogue& cat,
+                              const std::filesystem::path& file);
 
 }  // namespace shatter

@@ -3,6 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include "shatter/fracture/bound_remnant.hpp"
 
@@ -70,6 +74,32 @@ TEST(BoundRemnant, EmptyCatalogueHasNoRemnant) {
   const BoundRemnant r = bound_remnant(FragmentCatalogue{}, 1.0);
   EXPECT_EQ(r.mass, 0.0);
   EXPECT_TRUE(r.members.empty());
+}
+
+}  // namespace
+}  // namespace shatter
+
+namespace shatter {
+namespace {
+
+TEST(BoundRemnant, JsonReportHoldsMassSpeedAndSpin) {
+  FragmentCatalogue cat;
+  Fragment f;
+  f.mass = 2.0;
+  f.velocity = {3.0, 4.0, 0.0};
+  cat.fragments.push_back(f);
+  cat.total_mass = 4.0;
+  const BoundRemnant r = bound_remnant(cat, 1.0);
+  const auto file = std::filesystem::temp_directory_path() / "shatter_bound_remnant_test.json";
+  write_bound_remnant_json(r, cat, file);
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(file);
+  EXPECT_NE(text.find("\"mass_kg\": 2,"), std::string::npos) << text;
+  EXPECT_NE(text.find("\"mass_fraction\": 0.5,"), std::string::npos) << text;
+  EXPECT_NE(text.find("\"speed_m_per_s\": 5,"), std::string::npos) << text;
+  EXPECT_NE(text.find("\"spin_rate_rad_per_s\": 0,"), std::string::npos) << text;
+  EXPECT_NE(text.find("\"fragments\": [0]"), std::string::npos) << text;
 }
 
 }  // namespace
