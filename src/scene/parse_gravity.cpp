@@ -30,7 +30,7 @@ void read_gravity(Reader& root, Scene& scene) {
   }
   g.mesh = static_cast<int>(mesh);
   g.G = r.positive("G", r.number("G", g.G));
-  r.note_range("G", "> 0; CODATA 2018 by default", "m^3/(kg s^2)");
+  r.note_range("G", "CODATA 2018 by default", "m^3/(kg s^2)");
   g.dt_factor = r.within("dt_factor", r.number("dt_factor", g.dt_factor), 1e-3, 1.0, "",
                          "dt <= dt_factor sqrt(cell / max |a|); above 1 a point falls more than a "
                          "cell in one step");
