@@ -14,6 +14,8 @@ packages=(
   libeigen3-dev libxsimd-dev libtbb-dev libhdf5-dev
   libbenchmark-dev libgtest-dev libgmock-dev
   libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
+  # self-gravity's FFT (src/gravity)
+  libfftw3-dev
   python3 python3-numpy python3-matplotlib python3-h5py
   # MPI domain decomposition (docs/mpi.md): `mpirun -np N shatter run SCENE`
   libopenmpi-dev openmpi-bin

@@ -4,6 +4,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "shatter/fracture/bound_remnant.hpp"
+#include "shatter/gravity/mesh_gravity.hpp"
 #include "shatter/io/mirror.hpp"
 
 namespace shatter::cli {
@@ -28,6 +30,13 @@ FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_
   write_fragments_hdf5(cat, with_ext(".h5"));
   write_ss(fragments_ss(cat, info.time), with_ext(".ss"));
   if (info.ss_particles) write_ss(particles_ss(full, info.time), with_ext("_particles.ss"));
+  const BoundRemnant bound = bound_remnant(cat, gravity::kNewtonG);  // BA99's bound remnant
+  write_bound_remnant_json(bound, cat, with_ext("_bound.json"));
+  spdlog::info(
+      "bound remnant (BA99): m = {:.4g} kg ({:.3g} of total), {} fragments, |v| = {:.4g} "
+      "m/s, spin {:.4g} rad/s; written to {}_bound.json",
+      bound.mass, cat.total_mass > 0.0 ? bound.mass / cat.total_mass : 0.0, bound.members.size(),
+      bound.speed(), bound.spin(), prefix.string());
   const char* model = symmetry_axis >= 0 ? "the mirrored body (half model mirrored)" : "the model";
   spdlog::info(
       "{} fragments (D < {}) of {}, dust {:.3g} kg of {:.3g} kg; written to {}.csv/.h5/.ss{}",

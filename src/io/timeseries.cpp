@@ -19,7 +19,7 @@ namespace {
 constexpr std::string_view kHeader =
     "step,time_s,dt_s,kinetic_J,internal_J,potential_J,total_J,boundary_work_J,outflow_J,"
     "energy_error,px_kg_m_per_s,py_kg_m_per_s,pz_kg_m_per_s,failure_ratio,unresolved_kinetic_J,"
-    "unresolved_kinetic_fraction,wall_s";
+    "unresolved_kinetic_fraction,gravitational_J,wall_s";
 
 std::ofstream open_for_writing(const std::filesystem::path& file, std::ios::openmode mode) {
   std::ofstream out(file, mode);
@@ -135,10 +135,10 @@ void TimeSeriesWriter::write(const TimeSeriesRow& r) {
   const EnergyBudget& e = r.energy;
   out_ << fmt::format(
       "{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.9g},"
-      "{:.17g},{:.17g},{:.17g},{:.9g},{:.17g},{:.9g},{:.3f}\n",
+      "{:.17g},{:.17g},{:.17g},{:.9g},{:.17g},{:.9g},{:.17g},{:.3f}\n",
       r.step, r.time, r.dt, e.kinetic, e.internal, e.potential, e.total(), e.boundary_work,
       e.outflow, e.error(), r.momentum.x(), r.momentum.y(), r.momentum.z(), r.failure_ratio,
-      e.unresolved_kinetic, e.unresolved_fraction(), r.wall);
+      e.unresolved_kinetic, e.unresolved_fraction(), e.gravitational, r.wall);
 }
 
 std::array<parallel::ExactSum, 3> momentum_sums(const ParticleStore& store) {

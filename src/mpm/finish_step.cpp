@@ -65,6 +65,7 @@ void finish_step(State& s) {
   if (taken > 0.0) E.boundary_work += taken * v[5];
   S.fastest = flags[0];
   s.clock.dt = stable_dt(s, S.fastest);
+  if (s.gravity) s.clock.dt = std::min(s.clock.dt, s.gravity->dt_limit(s.config.cell_size));
   check_new_time_step(s.clock, s.config.dt_min, "no sound speed and no motion, and no dt_max set");
 }
 

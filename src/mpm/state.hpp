@@ -22,6 +22,7 @@
 #include "shatter/core/config.hpp"
 #include "shatter/core/energy.hpp"
 #include "shatter/core/particles.hpp"
+#include "shatter/gravity/self_gravity.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 #include "shatter/material/material_model.hpp"
 #include "shatter/parallel/exact_sum.hpp"
@@ -103,8 +104,9 @@ struct State {
   // Multi-velocity-field contact: set only when the scene asks for it and has two bodies or
   // more; otherwise the step is the single-field step, bitwise.
   std::unique_ptr<Contact> contact;
-  std::unique_ptr<DrivenBodies> driven;  // prescribed-velocity bodies (set_driven)
-  TransferPolicy transfer;               // decided once, from the configuration
+  std::unique_ptr<DrivenBodies> driven;           // prescribed-velocity bodies (set_driven)
+  std::unique_ptr<gravity::SelfGravity> gravity;  // gravity.self only (stages/gravity.cpp)
+  TransferPolicy transfer;                        // decided once, from the configuration
   FilterArrays filter;
   // The step being taken applies the XPIC/FMPM filter (SolverConfig::filter_every); set by
   // Simulation::step from the step counter before the graph runs, the same on a retake.

@@ -26,6 +26,7 @@ void add_stages(State& s) {
   g.add(sort_stage<Shape>(s));                                   // 1. sort by block, stencils
   g.add(p2g_stage<Shape>(s));                                    // 1, 3. P2G (Eqs. 29, 32, 33)
   if (s.dist()) g.add(parallel::halo_stage(s));                  // 1b. node sums over ranks
+  if (s.config.self_gravity.self) g.add(self_gravity_stage(s));  // 1c. nodal self-gravity
   g.add(grid_update_stage(s));                                   // 2-4. BCs, momentum (Eq. 27)
   if (s.transfer.filter_stage()) g.add(filter_stage<Shape>(s));  // 5a. XPIC / FMPM passes
   g.add(g2p_stage<Shape>(s));                                    // 5. G2P

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "shatter/fracture/flaws.hpp"
+#include "shatter/gravity/equilibrium.hpp"
 
 namespace shatter::scene {
 
@@ -77,6 +78,8 @@ BuiltScene build(const Scene& scene) {
     }
     if (b.flaws) initialise_flaws(P, r, *b.flaws, flaw_copies(scene, b));
   }
+  const gravity::GravityConfig& g = scene.solver.self_gravity;
+  if (g.equilibrium) gravity::set_equilibrium(P, s.materials, g.G);  // lithostatic start
   return s;
 }
 

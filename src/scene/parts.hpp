@@ -18,6 +18,9 @@ void read_domain(Reader& root, Scene& scene);
 // solver.contact_pair names bodies: resolved to body ids once the bodies are read.
 void resolve_contact_pairs(Scene& scene);
 
+// [gravity] (parse_gravity.cpp), after [solver] and [domain]; fills scene.solver.self_gravity.
+void read_gravity(Reader& root, Scene& scene);
+
 // [fracture] and [output].
 void read_fracture(Reader& root, Scene& scene);
 void read_output(Reader& root, Scene& scene);

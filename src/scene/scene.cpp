@@ -37,7 +37,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   scene.base_dir = base_dir;
   Reader root(doc, "", source);
   root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact", "fracture",
-              "output"});
+              "output", "gravity"});
   root.reject_unknown();
   scene.name = root.string("name", std::filesystem::path(source).stem().string());
   root.note_default("name", "the file name without .toml");
@@ -67,6 +67,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
 
   read_solver(root, scene);
   read_domain(root, scene);
+  read_gravity(root, scene);
   read_fracture(root, scene);
   const auto impact = read_impact(root, scene);
 

@@ -187,6 +187,7 @@ void SphSolver::Impl::forces() {
                                                          off);
                       }
                     });
+  if (s.config_.self_gravity.self) add_self_gravity();
   // The images' a^n, for the next kick's viscous heat (rates pass).
   if (mirrors) mirror_vector(ax.data(), ay.data(), az.data(), n);
 }

@@ -16,12 +16,14 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
+#include "shatter/gravity/self_gravity.hpp"
 #include "shatter/sph/solver.hpp"
 #include "sph/gather.hpp"
 
@@ -120,6 +122,7 @@ struct SphSolver::Impl {
   AlignedVector<double> alpha, rho_n;
   std::vector<std::uint32_t> order;
   std::vector<StageTiming> timings;
+  std::unique_ptr<gravity::SelfGravity> gravity;  // gravity.self only (sph/gravity.cpp)
   // Verlet lists: positions and h at the last build, the skin it used (m), whether the lists
   // are those of the current store (false after a restore or when particles left), and the
   // number of builds.
@@ -167,6 +170,7 @@ struct SphSolver::Impl {
   void material(double dt);
   void drift(double dt);
   void forces();
+  void add_self_gravity();  // a += the particles' self-gravity (sph/gravity.cpp)
 
   // switch.cpp
   void start_switch();

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "shatter/gravity/config.hpp"
 #include "shatter/material/material_model.hpp"
 
 namespace shatter {
@@ -158,6 +159,7 @@ struct SolverConfig {
   // crawling forever; 0 disables the check.
   double dt_min = 0.0;
   Vec3 gravity = Vec3::Zero();
+  gravity::GravityConfig self_gravity;  // [gravity]: self-gravity and the equilibrium start
   // Optional body force per unit mass at each particle (Eq. 30, b_p), e.g. the source term of a
   // manufactured solution. Called once per step at t^n with the particles and three arrays to
   // fill; leave empty when unused (it then costs nothing).

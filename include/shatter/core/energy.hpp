@@ -11,9 +11,10 @@ struct EnergyBudget {
   double kinetic = 0.0;        // sum 1/2 m v^2 (v at the half step the integrator holds)
   double internal = 0.0;       // sum m E: thermal + strain energy
   double potential = 0.0;      // -sum m g.x (uniform gravity)
+  double gravitational = 0.0;  // 1/2 sum m phi, self-gravity (shatter/gravity/self_gravity.hpp)
   double boundary_work = 0.0;  // energy constraints took from the particles (APIC only; +)
   double outflow = 0.0;        // energy carried away by particles that left through outflow
-  double initial = 0.0;        // kinetic + internal + potential at t = 0
+  double initial = 0.0;        // total() at t = 0
   double scale = 0.0;          // largest |kinetic| + |internal| seen: the error's denominator
   // Step diagnostics (issue 16), not part of the budget and not checkpointed (recomputed every
   // step): the kinetic energy of the velocities the step's P2G transferred (v^{n-1/2}), and the
@@ -22,7 +23,7 @@ struct EnergyBudget {
   double transferred_kinetic = 0.0;
   double unresolved_kinetic = 0.0;
 
-  double total() const { return kinetic + internal + potential; }
+  double total() const { return kinetic + internal + potential + gravitational; }
   // Relative total-energy error: (E - E_0 + removed) / scale.
   double error() const {
     const double s = std::max(scale, 1e-300);

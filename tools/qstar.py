@@ -1,0 +1,225 @@
+#!/usr/bin/env python3
+"""Q*_D for one target size: bracket and bisect the impactor mass until the bound remnant is half
+the target (issue 30; docs/validation-qstar.md).
+
+Each trial writes a scene (target sphere in self-gravitating equilibrium, an impactor of the same
+material through [impact], BA99's flaws), runs `shatter run`, then `shatter fragments` on the last
+snapshot, and reads the bound remnant (PREFIX_bound.json: Benz & Asphaug 1999's iterative energy
+criterion). Q = (1/2) m_imp v^2 / M_target (BA99's specific energy). The remnant fraction
+f = M_bound / M_target falls with Q; the tool first brackets f = 1/2 (factors of --step from
+--q-guess), then narrows the bracket in log Q, --jobs trials at a time (k-section: the trials of
+one round run in parallel), until Q_hi / Q_lo < 1 + --tolerance; Q*_D is the geometric mean
+(so the relative error is below tolerance / 2). Restartable: every trial's result is kept in
+WORK/results.json and a finished trial is never run again.
+
+Appends one row to the CSV (columns radius_m, speed_km_s, angle_deg, method, material,
+qstar_J_per_kg, runs, points_per_target) and, with --plot, draws every row of it against BA99's
+fitted curves (their Table III, basalt).
+
+Example: tools/qstar.py --radius 100 --speed 3 --work /tmp/qstar-100m --csv docs/qstar.csv
+"""
+import argparse
+import concurrent.futures
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+COLUMNS = ["radius_m", "speed_km_s", "angle_deg", "method", "material", "qstar_J_per_kg", "runs",
+           "points_per_target"]
+# BA99 Table III (basalt): Q*_D = Q0 (R / 1 cm)^a + B rho (R / 1 cm)^b, Q in erg/g, rho in g/cm^3.
+BA99_FIT = {3.0: (3.5e7, -0.38, 0.3, 1.36), 5.0: (9.0e7, -0.36, 0.5, 1.36)}
+
+
+def ba99_qstar(radius_m, speed_km_s, rho=2.7):
+    """BA99's fitted Q*_D in J/kg (1 erg/g = 1e-4 J/kg) at radius_m, for their two speeds."""
+    q0, a, b_coef, b = BA99_FIT[speed_km_s]
+    r_cm = radius_m * 100.0
+    return 1e-4 * (q0 * r_cm ** a + b_coef * rho * r_cm ** b)
+
+
+def scene_text(o, q, run_dir):
+    """The trial's scene: impactor radius from Q = (1/2) m v^2 / M_target (same density)."""
+    v = o.speed * 1e3
+    imp_radius = o.radius * (2.0 * q / (v * v)) ** (1.0 / 3.0)
+    cell = 2.0 * o.radius / o.points_per_radius  # 2 x 2 x 2 points per cell
+    half = 3.0 * o.radius
+    end = o.crossings * 2.0 * o.radius / o.sound_speed
+    # The impactor gets at least two points per radius, finer than the target's when it is small
+    # (a sub-resolution impactor has no points); its mass is its own volume's either way.
+    imp_spacing = min(0.5 * cell, 0.5 * imp_radius)
+    return f"""# tools/qstar.py trial: Q = {q:.6g} J/kg
+name = "qstar"
+[solver]
+method = "{o.method}"
+cell_size = {cell:.9g}
+end_time = {end:.9g}
+[domain]
+lo = [{-half:.9g}, {-half:.9g}, {-half:.9g}]
+hi = [{half:.9g}, {half:.9g}, {half:.9g}]
+boundary = "outflow"
+[gravity]
+self = true
+equilibrium = true
+mesh = {o.mesh}
+[body.target]
+shape = "sphere"
+centre = [0.0, 0.0, 0.0]
+radius = {o.radius:.9g}
+material = "{o.material}"
+[body.target.damage]
+model = "grady_kipp"
+weibull_m = {o.weibull_m}
+weibull_k = {o.weibull_k:.6g}
+total_flaws = {10.0 ** (o.weibull_m + 1):.6g}
+[body.projectile]
+shape = "sphere"
+radius = {imp_radius:.9g}
+spacing = {imp_spacing:.9g}
+material = "{o.material}"
+[body.projectile.damage]
+model = "grady_kipp"
+weibull_m = {o.weibull_m}
+weibull_k = {o.weibull_k:.6g}
+total_flaws = {10.0 ** (o.weibull_m + 1):.6g}
+[impact]
+projectile = "projectile"
+target = "target"
+speed = {v:.9g}
+angle = {o.angle:.9g}
+[output]
+directory = "{run_dir}"
+snapshot_every = 0.0
+"""
+
+
+def trial(o, q):
+    """Runs one trial (or reads its finished result): the bound fraction of the target mass."""
+    run_dir = Path(o.work) / f"q_{q:.6e}"
+    result = run_dir / "result.json"
+    if result.exists():
+        return json.loads(result.read_text())
+    run_dir.mkdir(parents=True, exist_ok=True)
+    scene = run_dir / "scene.toml"
+    scene.write_text(scene_text(o, q, run_dir / "out"))
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    threads = ["--threads", str(o.threads)] if o.threads else []
+    subprocess.run([o.shatter, "run", str(scene), *threads], check=True, env=env,
+                   stdout=subprocess.DEVNULL)
+    snaps = sorted((run_dir / "out" / "snapshots").glob("snapshot_*.h5"))
+    if not snaps:
+        raise RuntimeError(f"{run_dir}: the run wrote no snapshot")
+    subprocess.run([o.shatter, "fragments", str(snaps[-1])], check=True, stdout=subprocess.DEVNULL)
+    bound = json.loads(next(snaps[-1].parent.glob(snaps[-1].stem + "*_bound.json")).read_text())
+    total = bound["mass_kg"] / bound["mass_fraction"] if bound["mass_fraction"] > 0 else 0.0
+    ratio = o.radius ** 3 / (o.radius ** 3 + (o.radius * (2.0 * q / (o.speed * 1e3) ** 2) ** (1 / 3)) ** 3)
+    out = {"q": q, "fraction": bound["mass_kg"] / (total * ratio) if total > 0 else 0.0}
+    result.write_text(json.dumps(out))
+    return out
+
+
+def evaluate(o, qs, cache):
+    todo = [q for q in qs if f"{q:.6e}" not in cache]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=o.jobs) as pool:
+        for q, r in zip(todo, pool.map(lambda q: trial(o, q), todo)):
+            cache[f"{q:.6e}"] = r["fraction"]
+            print(f"Q = {q:.4g} J/kg: bound fraction {r['fraction']:.3f}", flush=True)
+    (Path(o.work) / "results.json").write_text(json.dumps(cache, indent=1))
+    return [cache[f"{q:.6e}"] for q in qs]
+
+
+def bracket(o, cache):
+    """(Q_lo, Q_hi) with f(Q_lo) >= 1/2 > f(Q_hi)."""
+    q = o.q_guess if o.q_guess else ba99_qstar(o.radius, o.speed if o.speed in BA99_FIT else 3.0)
+    for _ in range(o.max_bracket):
+        f_q, f_up = evaluate(o, [q, q * o.step], cache)
+        if f_q >= 0.5 > f_up:
+            return q, q * o.step
+        q = q * o.step if f_up >= 0.5 else q / o.step
+    sys.exit("qstar: no bracket found; widen --step or --max-bracket")
+
+
+def bisect(o, cache, lo, hi):
+    while hi / lo >= 1.0 + o.tolerance:
+        k = o.jobs
+        qs = [lo * (hi / lo) ** ((i + 1) / (k + 1)) for i in range(k)]
+        for q, f in zip(qs, evaluate(o, qs, cache)):
+            if f >= 0.5:
+                lo = max(lo, q)
+            else:
+                hi = min(hi, q)
+                break
+    return math.sqrt(lo * hi)
+
+
+def append_row(o, qstar, runs):
+    path = Path(o.csv)
+    new = not path.exists()
+    with path.open("a", newline="") as f:
+        w = csv.writer(f)
+        if new:
+            w.writerow(COLUMNS)
+        points = round(4.0 / 3.0 * math.pi * (o.points_per_radius / 2.0) ** 3 * 8)
+        w.writerow([o.radius, o.speed, o.angle, o.method, o.material, f"{qstar:.6g}", runs, points])
+
+
+def plot(csv_path, png):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rows = list(csv.DictReader(open(csv_path)))
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    radii = [10 ** (e / 10) for e in range(-20, 51)]
+    for v, style in ((3.0, "--"), (5.0, ":")):
+        ax.loglog(radii, [ba99_qstar(r, v) for r in radii], "k" + style, label=f"BA99 fit {v:g} km/s")
+    for r in rows:
+        ax.loglog(float(r["radius_m"]), float(r["qstar_J_per_kg"]), "o",
+                  label=f"{r['method']} {r['speed_km_s']} km/s")
+    ax.set_xlabel("target radius (m)")
+    ax.set_ylabel("Q*_D (J/kg)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--radius", type=float, required=True, help="target radius, m")
+    p.add_argument("--speed", type=float, default=3.0, help="impact speed, km/s")
+    p.add_argument("--angle", type=float, default=45.0, help="impact angle, degrees")
+    p.add_argument("--material", default="basalt_ba99")
+    p.add_argument("--method", default="mpm", choices=["mpm", "sph"])
+    p.add_argument("--weibull-k", type=float, default=4e35, help="m^-3 (BA99 basalt)")
+    p.add_argument("--weibull-m", type=float, default=9.0)
+    p.add_argument("--points-per-radius", type=float, default=10.0)
+    p.add_argument("--mesh", type=int, default=64, help="gravity mesh nodes per side")
+    p.add_argument("--crossings", type=float, default=10.0,
+                   help="end time in target sound crossings (2 R / c)")
+    p.add_argument("--sound-speed", type=float, default=4595.0, help="m/s (BA99 basalt c_p)")
+    p.add_argument("--q-guess", type=float, default=0.0, help="J/kg; 0 = BA99's fit")
+    p.add_argument("--step", type=float, default=4.0, help="bracketing factor")
+    p.add_argument("--max-bracket", type=int, default=8)
+    p.add_argument("--tolerance", type=float, default=0.2, help="stop when Q_hi/Q_lo < 1 + this")
+    p.add_argument("--jobs", type=int, default=1, help="trials run at once")
+    p.add_argument("--threads", type=int, default=0, help="threads per trial (0 = shatter's default)")
+    p.add_argument("--shatter", default="build/release/shatter")
+    p.add_argument("--work", required=True, help="trial directory (restartable)")
+    p.add_argument("--csv", default="docs/qstar.csv")
+    p.add_argument("--plot", help="PNG of every CSV row against BA99's fits")
+    o = p.parse_args()
+    Path(o.work).mkdir(parents=True, exist_ok=True)
+    cache_file = Path(o.work) / "results.json"
+    cache = json.loads(cache_file.read_text()) if cache_file.exists() else {}
+    lo, hi = bracket(o, cache)
+    qstar = bisect(o, cache, lo, hi)
+    print(f"Q*_D = {qstar:.4g} J/kg (bracket {lo:.4g} .. {hi:.4g}, {len(cache)} runs)")
+    append_row(o, qstar, len(cache))
+    if o.plot:
+        plot(o.csv, o.plot)
+
+
+if __name__ == "__main__":
+    main()
