@@ -67,3 +67,39 @@ def test_ensemble_stats_summarises_a_table():
     assert r.returncode == 0, r.stderr
     # column a: mean 2, sample standard deviation sqrt(2) (two significant digits), range 1-3
     assert "a: n = 2: 2 ± 1.4 (1-3)" in r.stdout.splitlines(), r.stdout
+
+
+def non_background_pixels(png):
+    """Pixels that differ from render.py's white background by more than 2/255 in any channel
+    (antialiasing and PNG round-off stay under that on the background itself)."""
+    import matplotlib.image
+    import numpy as np
+    rgb = matplotlib.image.imread(str(png))[:, :, :3]
+    return int(np.count_nonzero(np.any(np.abs(rgb - 1.0) > 2.0 / 255.0, axis=2))), rgb.shape
+
+
+def test_render_draws_the_particles_headless(tiny_run, tmp_path):
+    # No display: the tool runs itself under xvfb-run (ParaView renders through X).
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    r = run([PYTHON, os.path.join(TOOLS, "render.py"), str(tiny_run), "--out", str(tmp_path),
+             "--fields", "damage,speed,peak_pressure", "--size", "320x240", "--animate"],
+            env=env)
+    assert r.returncode == 0, r.stderr[-2000:]
+    snapshots = len(list((tiny_run / "snapshots").glob("snapshot_*.h5")))
+    for field in ("damage", "speed", "peak_pressure"):
+        for view in ("3d", "slice"):
+            n, shape = non_background_pixels(tmp_path / f"{field}_{view}.png")
+            assert shape[:2] == (240, 320)
+            # 4 400 particles (half of them in the slab's picture) at 3 px each, plus the colour
+            # bar: thousands of pixels; a blank view (no cells, as before vertex cells) has only
+            # the colour bar's ~1 000. The floor of 5 000 tells them apart.
+            assert n > 5000, (field, view, n)
+        frames = sorted(tmp_path.glob(f"{field}_3d_[0-9]*.png"))
+        assert len(frames) == snapshots
+
+
+def test_render_refuses_a_folder_without_a_run(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    r = run([PYTHON, os.path.join(TOOLS, "render.py"), str(tmp_path)], env=env)
+    assert r.returncode != 0
+    assert "particles.xmf" in r.stderr and "not found" in r.stderr
