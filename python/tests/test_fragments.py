@@ -167,3 +167,20 @@ def test_ss_colours_stay_in_the_documented_palette(run_dir):
     for name in ("fragments.ss", "again.ss", "again_particles.ss"):
         _, records = read_ss_independently(run_dir / name)
         assert {r[11] for r in records} <= SS_PALETTE | {1}, name
+
+
+def test_fragments_prefix_in_a_missing_folder_creates_it(run_dir, tmp_path):
+    prefix = tmp_path / "post" / "deeper" / "frag"
+    r = subprocess.run([shatter_binary(), "fragments", str(sp.snapshots(run_dir)[-1]),
+                        "--prefix", str(prefix)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert f"created the folder {prefix.parent}" in r.stdout + r.stderr
+    for ext in (".csv", ".h5", ".ss"):
+        assert (prefix.parent / ("frag" + ext)).stat().st_size > 0
+    # A prefix under a plain file: refused, naming the folder that cannot be made.
+    (tmp_path / "plain").write_text("x")
+    r = subprocess.run([shatter_binary(), "fragments", str(sp.snapshots(run_dir)[-1]),
+                        "--prefix", str(tmp_path / "plain" / "frag")], capture_output=True,
+                       text=True)
+    assert r.returncode == 2
+    assert "cannot create the folder" in r.stdout + r.stderr
