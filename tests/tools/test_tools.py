@@ -90,9 +90,10 @@ def test_render_draws_the_particles_headless(tiny_run, tmp_path):
         for view in ("3d", "slice"):
             n, shape = non_background_pixels(tmp_path / f"{field}_{view}.png")
             assert shape[:2] == (240, 320)
-            # 4 400 particles (half of them in the slab's picture) at 3 px each, plus the colour
-            # bar: thousands of pixels; a blank view (no cells, as before vertex cells) has only
-            # the colour bar's ~1 000. The floor of 5 000 tells them apart.
+            # The particles at 3 px each plus the colour bar: measured 13 100-13 300 (3-D) and
+            # 7 900-8 200 (slab) at this size; a blank view (no cells, as before vertex cells)
+            # has only the colour bar and its labels, about 1 900. The floor of 5 000 tells
+            # them apart.
             assert n > 5000, (field, view, n)
         frames = sorted(tmp_path.glob(f"{field}_3d_[0-9]*.png"))
         assert len(frames) == snapshots
