@@ -125,7 +125,38 @@ def shell_failure(run_dir):
     return out
 
 
+def lab_applicable(run_dir):
+    """Whether the lab-impact figures fit the run: a body named "target" with a centre and a
+    radius (the scene as resolved, RUN/scene.toml)."""
+    target = lab.scene_of(run_dir).get("body", {}).get("target", {})
+    return "centre" in target and "radius" in target
+
+
+def general_run(run_dir):
+    """The figures any scene gives (tools/study.py), in this table's keys; the lab-only ones
+    (shells, core, offset) are NaN and the run is neither central nor a core."""
+    import study
+    ts = lab.sp.timeseries(run_dir)
+    g = study.general_metrics(run_dir, ())
+    nan = float("nan")
+    return {
+        "failed_inner": nan, "failed_middle": nan, "failed_outer": nan,
+        "failed_near_largest": nan, "central": False, "run": os.path.basename(run_dir),
+        "failure_40": float(np.interp(40e-6, ts["time_s"], ts["failure_ratio"])),
+        "failure_100": float(np.interp(100e-6, ts["time_s"], ts["failure_ratio"])),
+        "largest_fraction": g.get("largest_fraction", nan),
+        "largest_speed": g.get("largest_speed", nan), "largest_offset_mm": nan,
+        "energy_error": g["energy_error"], "core": False, "cpu_s": nan,
+        "t_end_us": g["t_end_s"] * 1e6,
+    }
+
+
 def summarise_run(run_dir, core_radius_mm, core_failed=0.5):
+    if not lab_applicable(run_dir):
+        # Another scene (an asteroid of the user's own): no KeyError, the general figures.
+        print(f"ensemble.py: {run_dir}: no body 'target' with a centre and radius: lab-impact "
+              "figures (shells, core, offset) are NaN; see tools/study.py", file=sys.stderr)
+        return general_run(run_dir)
     s = lab.summarise(run_dir)
     t = s["time_us"]
     inner, middle, outer, near = shell_failure(run_dir)

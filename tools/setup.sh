@@ -25,6 +25,10 @@ test_packages=(
   # particles.xmf (about 140 MB to download; Debian's VTK 9.1 has no Xdmf3 reader, and its
   # python3-xdmf bindings do not import)
   python3-pytest python3-paraview
+  # meshio's XDMF time-series reader on particles.xmf (python/tests/test_xdmf_paraview.py)
+  python3-meshio
+  # headless pictures: tools/render.py runs ParaView under xvfb-run (tests/tools)
+  xvfb xauth
 )
 if [ "${1:-}" = "--tests" ]; then
   packages+=("${test_packages[@]}")

@@ -84,3 +84,103 @@ def test_snapshots_of_the_older_layout_still_work(run_dir, tmp_path):
     ref, _ = sp.fragment_table(run_dir / "fragments.csv")
     np.testing.assert_array_equal(cols["mass_kg"], ref["mass_kg"])  # same points, same search
     assert not any(k.startswith("mass_body_") for k in cols)  # no names, no composition
+
+
+# --- pkdgrav hand-off at asteroid scale: a fully failed body, packing-safe radii, colours ---
+
+import shutil
+import struct
+import subprocess
+import zlib
+
+import h5py
+
+from conftest import run_tiny, shatter_binary
+
+SS_PALETTE = {3, 4, 8, 9, 10, 12, 13, 14, 15}  # docs/outputs.md; ssdefs.h reserves 2, 5, 6, 7, 11
+
+
+def read_ss_independently(path):
+    """From the layout in pkdgrav's ssio.h alone (not shatterpy's reader): XDR big-endian, header
+    {double time; int n_data; int pad}, records {double mass, radius, pos[3], vel[3], spin[3];
+    int color, org_idx}, pkdgrav units (only ratios of lengths are used here)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    _, n, _ = struct.unpack(">dii", data[:16])
+    assert len(data) == 16 + 96 * n
+    records = [struct.unpack(">11dii", data[16 + 96 * k:16 + 96 * (k + 1)]) for k in range(n)]
+    return n, records
+
+
+def overlapping_pairs(records):
+    pos = np.array([r[2:5] for r in records])
+    rad = np.array([r[1] for r in records])
+    n = 0
+    for i in range(len(records) - 1):
+        d = np.linalg.norm(pos[i + 1:] - pos[i], axis=1)
+        n += int(np.count_nonzero(rad[i] + rad[i + 1:] > d))
+    return n
+
+
+def fully_failed_copy(snapshot, dest):
+    """The snapshot with D = 1 at every point (what a km-scale impact leaves), its damage
+    checksum updated so that the reader accepts it."""
+    shutil.copy(snapshot, dest)
+    with h5py.File(dest, "r+") as f:
+        d = f["particles/damage"]
+        ones = np.ones(d.shape, dtype=d.dtype)
+        d[...] = ones
+        d.attrs.modify("crc32", np.array(zlib.crc32(ones.tobytes()), dtype=d.attrs["crc32"].dtype))
+    return dest
+
+
+def test_fully_failed_body_hands_every_point_to_pkdgrav(run_dir, tmp_path):
+    snap = fully_failed_copy(sp.snapshots(run_dir)[-1], tmp_path / "failed.h5")
+    r = subprocess.run([shatter_binary(), "fragments", str(snap), "--prefix",
+                        str(tmp_path / "frag")], capture_output=True, text=True, check=True)
+    assert "no fragment survives" in r.stdout + r.stderr, r.stdout + r.stderr
+    n, records = read_ss_independently(tmp_path / "frag.ss")
+    # Every point of the mirrored body, as the per-point file of the same snapshot holds them.
+    n_points, _ = read_ss_independently(run_dir / "again_particles.ss")
+    assert n == n_points > 0
+    assert {r[11] for r in records} == {1}  # all dust
+    assert [r[12] for r in records] == list(range(n))
+
+
+def test_packing_safe_radius_removes_the_overlaps_of_a_real_run(run_dir, tmp_path):
+    # The same tiny run with output.ss_radius = "packing_safe".
+    safe = run_tiny(tmp_path / "safe", 'output.ss_radius="packing_safe"')
+    n_eq, eq = read_ss_independently(run_dir / "fragments.ss")
+    n_safe, packed = read_ss_independently(safe / "fragments.ss")
+    assert n_eq == n_safe
+    assert overlapping_pairs(packed) == 0
+    # Same masses and centres; radii only shrink.
+    for a, b in zip(eq, packed):
+        assert a[0] == b[0] and a[2:5] == b[2:5]
+        assert b[1] <= a[1]
+    # The per-point file at equal volume: lattice neighbours overlap (r = 0.62 spacing).
+    _, points = read_ss_independently(run_dir / "again_particles.ss")
+    assert overlapping_pairs(points) > 0
+
+
+def test_ss_colours_stay_in_the_documented_palette(run_dir):
+    for name in ("fragments.ss", "again.ss", "again_particles.ss"):
+        _, records = read_ss_independently(run_dir / name)
+        assert {r[11] for r in records} <= SS_PALETTE | {1}, name
+
+
+def test_fragments_prefix_in_a_missing_folder_creates_it(run_dir, tmp_path):
+    prefix = tmp_path / "post" / "deeper" / "frag"
+    r = subprocess.run([shatter_binary(), "fragments", str(sp.snapshots(run_dir)[-1]),
+                        "--prefix", str(prefix)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert f"created the folder {prefix.parent}" in r.stdout + r.stderr
+    for ext in (".csv", ".h5", ".ss"):
+        assert (prefix.parent / ("frag" + ext)).stat().st_size > 0
+    # A prefix under a plain file: refused, naming the folder that cannot be made.
+    (tmp_path / "plain").write_text("x")
+    r = subprocess.run([shatter_binary(), "fragments", str(sp.snapshots(run_dir)[-1]),
+                        "--prefix", str(tmp_path / "plain" / "frag")], capture_output=True,
+                       text=True)
+    assert r.returncode == 2
+    assert "cannot create the folder" in r.stdout + r.stderr

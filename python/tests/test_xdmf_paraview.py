@@ -33,6 +33,14 @@ def test_default_reader_shows_points_vectors_tensor_and_times(run_dir):
         _, c, _ = sp.read_snapshot(path)
         d = fetch(reader, t)
         assert d.GetNumberOfPoints() == c["x"].size
+        # One vertex cell per particle (explicit connectivity 0..N-1): without cells the default
+        # Surface and the Points representations draw nothing.
+        assert d.GetNumberOfCells() == c["x"].size
+        assert d.GetCellType(0) == 2  # VTK_POLY_VERTEX
+        conn = d.VTKObject.GetCells().GetConnectivityArray()
+        assert conn.GetNumberOfTuples() == c["x"].size
+        np.testing.assert_array_equal(
+            [conn.GetValue(k) for k in range(conn.GetNumberOfTuples())], np.arange(c["x"].size))
         # Same binary64 values through HDF5 and VTK: exact.
         np.testing.assert_array_equal(np.asarray(d.Points),
                                       np.stack([c["x"], c["y"], c["z"]], 1))
@@ -47,3 +55,23 @@ def test_default_reader_shows_points_vectors_tensor_and_times(run_dir):
         np.testing.assert_array_equal(np.asarray(pd["id"]), c["id"])
         for name in ("mass", "rho", "pressure", "body"):
             assert name in pd.keys(), name
+
+
+def test_meshio_time_series_reader_reads_cells_and_every_step(run_dir):
+    # Debian's python3-meshio (tools/setup.sh --tests); its reader takes an Attribute's only
+    # child as its data, so the units live beside the attributes.
+    import meshio
+    files = sp.snapshots(run_dir)
+    with meshio.xdmf.TimeSeriesReader(str(run_dir / "particles.xmf")) as reader:
+        points, cells = reader.read_points_cells()
+        _, c0, _ = sp.read_snapshot(files[0])
+        n = c0["x"].size
+        assert points.shape == (n, 3)
+        assert [b.type for b in cells] == ["vertex"]
+        np.testing.assert_array_equal(cells[0].data.ravel(), np.arange(n))
+        assert reader.num_steps == len(files)
+        for k, path in enumerate(files):
+            t, point_data, _ = reader.read_data(k)
+            assert t == sp.read_snapshot_time(path)
+            _, c, _ = sp.read_snapshot(path)
+            np.testing.assert_array_equal(point_data["damage"], c["damage"])

@@ -1,4 +1,6 @@
 #include <cmath>
+#include <filesystem>
+#include <system_error>
 #include <utility>
 
 #include <spdlog/spdlog.h>
@@ -48,6 +50,17 @@ int fragments_command(const std::filesystem::path& snapshot, const FragmentOptio
   spec.static_strength = options.static_strength.value_or(0.0);
   std::filesystem::path prefix =
       options.prefix.value_or(snapshot.parent_path() / (snapshot.stem().string() + "_fragments"));
+  // `--prefix post/frag`: the folder is created (said so) rather than failing on the first file.
+  if (const auto dir = prefix.parent_path(); !dir.empty() && !std::filesystem::is_directory(dir)) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) {
+      spdlog::error("--prefix {}: cannot create the folder {}: {}", prefix.string(), dir.string(),
+                    ec.message());
+      return kBadInput;
+    }
+    spdlog::info("created the folder {} for --prefix {}", dir.string(), prefix.string());
+  }
   try {
     spdlog::info("{}: t = {} s, step {}, {} points", snapshot.string(), s.header.time,
                  s.header.step, s.particles.size());

@@ -9,6 +9,43 @@
 #include "shatter/io/mirror.hpp"
 
 namespace shatter::cli {
+namespace {
+
+// Shrinks the radii when asked (output.ss_radius = "packing_safe") and says how many.
+SsFile sized(SsFile ss, SsRadius radius, const std::string& what) {
+  if (radius != SsRadius::packing_safe) return ss;
+  const std::size_t shrunk = apply_packing_safe_radius(ss);
+  spdlog::info(
+      "{}: packing-safe radii: {} of {} records shrunk to half their nearest-neighbour "
+      "distance",
+      what, shrunk, ss.records.size());
+  return ss;
+}
+
+// PREFIX.ss (one record per fragment) and, when asked, PREFIX_particles.ss (one per point). A
+// catalogue without fragments (every point failed, common at km scale) would give an ss file of
+// no records, which pkdgrav's tools refuse: PREFIX.ss then holds every point instead, said so.
+template <class WithExt>
+void write_hand_off(const FragmentCatalogue& cat, const ParticleStore& full,
+                    const FragmentSearchSpec& spec, const WithExt& with_ext,
+                    const FragmentReportInfo& info) {
+  const auto ss_file = with_ext(".ss");
+  if (cat.fragments.empty()) {
+    spdlog::warn(
+        "no fragment survives: all {} points have D >= {} (dust {:.3g} kg); {} holds every point "
+        "instead (one record each, colour {}), the input of a rubble-pile reaccumulation",
+        full.size(), spec.damage_threshold, cat.dust_mass, ss_file.string(), kSsDustColour);
+    write_ss(sized(particles_ss(full, info.time), spec.ss_radius, ss_file.string()), ss_file);
+  } else {
+    write_ss(sized(fragments_ss(cat, info.time), spec.ss_radius, ss_file.string()), ss_file);
+  }
+  if (info.ss_particles) {
+    const auto file = with_ext("_particles.ss");
+    write_ss(sized(particles_ss(full, info.time), spec.ss_radius, file.string()), file);
+  }
+}
+
+}  // namespace
 
 FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_axis,
                                    const FragmentSearchSpec& spec,
@@ -28,8 +65,7 @@ FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_
   };
   write_fragments_csv(cat, with_ext(".csv"));
   write_fragments_hdf5(cat, with_ext(".h5"));
-  write_ss(fragments_ss(cat, info.time), with_ext(".ss"));
-  if (info.ss_particles) write_ss(particles_ss(full, info.time), with_ext("_particles.ss"));
+  write_hand_off(cat, full, spec, with_ext, info);
   const BoundRemnant bound = bound_remnant(cat, gravity::kNewtonG);  // BA99's bound remnant
   write_bound_remnant_json(bound, cat, with_ext("_bound.json"));
   spdlog::info(

@@ -327,16 +327,7 @@ SsFile read_ss(const std::filesystem::path& file) {
   return ss;
 }
 
-std::int32_t ss_body_colour(std::int64_t body) {
-  // 3 green, 4 blue, then 6, 7, ... (5 is the Sun's, 2 Jupiter's: RESERVED_COLOR in ssio.h).
-  return body < 2 ? static_cast<std::int32_t>(3 + body) : static_cast<std::int32_t>(4 + body);
-}
-
-std::int32_t ss_fragment_colour(std::int64_t fragment) {
-  return fragment < 0 ? 1 : ss_body_colour(fragment);
-}
-
-SsFile fragments_ss(const FragmentCatalogue& cat, double time) {
+SsFile fragments_ss(const FragmentCatalogue& cat, double time, SsRadius radius) {
   SsFile ss;
   ss.time = time;
   for (const Fragment& f : cat.fragments) {
@@ -355,10 +346,11 @@ SsFile fragments_ss(const FragmentCatalogue& cat, double time) {
     r.org_idx = static_cast<std::int32_t>(f.id);
     ss.records.push_back(r);
   }
+  if (radius == SsRadius::packing_safe) apply_packing_safe_radius(ss);
   return ss;
 }
 
-SsFile particles_ss(const ParticleStore& store, double time) {
+SsFile particles_ss(const ParticleStore& store, double time, SsRadius radius) {
   SsFile ss;
   ss.time = time;
   const auto m = store.col(Field::mass);
@@ -374,6 +366,7 @@ SsFile particles_ss(const ParticleStore& store, double time) {
     r.org_idx = static_cast<std::int32_t>(p);
     ss.records.push_back(r);
   }
+  if (radius == SsRadius::packing_safe) apply_packing_safe_radius(ss);
   return ss;
 }
 

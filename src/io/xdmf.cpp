@@ -1,10 +1,14 @@
 #include "shatter/io/xdmf.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <set>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "io/h5.hpp"
 #include "shatter/io/atomic_file.hpp"
 #include "shatter/io/snapshot.hpp"
 
@@ -44,6 +48,14 @@ std::string data_item(const XdmfEntry& e, const SnapshotDataset& d) {
       dims, d.real ? "Float" : "Int", d.bytes, xml_escape(e.file), d.name);
 }
 
+// The vertex-cell connectivity of an n-point grid (0 .. n-1) in the shared cells file.
+std::string cells_item(std::string_view cells_file, std::size_t n) {
+  return fmt::format(
+      "          <DataItem Dimensions=\"{} 1\" NumberType=\"Int\" Precision=\"8\" "
+      "Format=\"HDF\">{}:/{}</DataItem>\n",
+      n, xml_escape(cells_file), xdmf_cells_dataset(n));
+}
+
 const SnapshotDataset* find(const XdmfEntry& e, std::string_view name) {
   for (const SnapshotDataset& d : e.datasets) {
     if (d.name == name) return &d;
@@ -53,7 +65,11 @@ const SnapshotDataset* find(const XdmfEntry& e, std::string_view name) {
 
 }  // namespace
 
-std::string xdmf_document(const std::vector<XdmfEntry>& entries) {
+std::string xdmf_cells_dataset(std::size_t n) {
+  return fmt::format("cells/n{}", n);
+}
+
+std::string xdmf_document(const std::vector<XdmfEntry>& entries, std::string_view cells_file) {
   std::string doc =
       "<?xml version=\"1.0\" ?>\n"
       "<Xdmf Version=\"3.0\">\n"
@@ -63,10 +79,14 @@ std::string xdmf_document(const std::vector<XdmfEntry>& entries) {
     doc += fmt::format("      <Grid Name=\"{}\" GridType=\"Uniform\">\n",
                        xml_escape(std::filesystem::path(e.file).stem().string()));
     doc += fmt::format("        <Time Value=\"{}\" />\n", e.time);
+    // One vertex cell per particle with explicit connectivity: without it ParaView's readers build
+    // no cells (the default Surface and the Points views show nothing) and meshio has no cells.
     doc += fmt::format(
         "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
-        "NodesPerElement=\"1\" />\n",
+        "NodesPerElement=\"1\">\n",
         e.particles);
+    doc += cells_item(cells_file, e.particles);
+    doc += "        </Topology>\n";
     // Positions as one N x 3 dataset (XYZ), which both of ParaView's XDMF readers show; snapshots
     // written before the bundled layout have three 1-d datasets (X_Y_Z, legacy reader only).
     std::vector<std::string_view> geometry;
@@ -89,12 +109,17 @@ std::string xdmf_document(const std::vector<XdmfEntry>& entries) {
       geometry = {"x", "y", "z"};
     }
     doc += "        </Geometry>\n";
+    // Units as Information elements of the grid, not of each Attribute: meshio refuses an
+    // Attribute with any child but its DataItem.
     for (const SnapshotDataset& d : e.datasets) {
       if (std::find(geometry.begin(), geometry.end(), d.name) != geometry.end()) continue;
-      doc += fmt::format(
-          "        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n"
-          "          <Information Name=\"units\" Value=\"{}\" />\n",
-          xml_escape(d.name), d.xdmf_type, xml_escape(d.units));
+      doc += fmt::format("        <Information Name=\"units:{}\" Value=\"{}\" />\n",
+                         xml_escape(d.name), xml_escape(d.units));
+    }
+    for (const SnapshotDataset& d : e.datasets) {
+      if (std::find(geometry.begin(), geometry.end(), d.name) != geometry.end()) continue;
+      doc += fmt::format("        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n",
+                         xml_escape(d.name), d.xdmf_type);
       doc += data_item(e, d);
       doc += "        </Attribute>\n";
     }
@@ -131,8 +156,52 @@ void XdmfSeries::rebuild(const std::vector<std::filesystem::path>& snapshots, do
   write();
 }
 
-void XdmfSeries::write() const {
-  write_text_atomically(xmf_, xdmf_document(entries_));
+std::filesystem::path XdmfSeries::cells_path() const {
+  std::filesystem::path p = xmf_;
+  p.replace_extension();
+  p += "_cells.h5";
+  return p;
+}
+
+// The shared connectivity file holds one dataset per distinct particle count (a run has one), so
+// it is written once per run, not once per snapshot; rewritten (atomically) when a new count
+// appears or on the first write after a restart.
+void XdmfSeries::write_cells() {
+  std::set<std::size_t> counts;
+  for (const XdmfEntry& e : entries_) counts.insert(e.particles);
+  if (counts == cells_written_) return;
+  const std::filesystem::path file = cells_path();
+  const auto tmp = temporary_for(file);
+  h5::QuietErrors quiet;
+  try {
+    h5::Handle f = h5::create_file(tmp);
+    h5::set_attr(f.get(), "format", std::string_view("shatter-xdmf-cells"));
+    h5::set_attr(f.get(), "description",
+                 std::string_view("vertex-cell connectivity 0..n-1 of the n-point grids of the "
+                                  "XDMF sidecar, one dataset cells/n<n> per particle count"));
+    h5::Handle g = h5::create_group(f.get(), "cells");
+    std::vector<std::int64_t> ids;
+    for (std::size_t n : counts) {
+      ids.resize(n);
+      std::iota(ids.begin(), ids.end(), std::int64_t{0});
+      h5::write_ints(g.get(), fmt::format("n{}", n), ids, {.compress = true, .single = false});
+    }
+    g.reset();
+    if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
+      throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
+    }
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+  commit(tmp, file);
+  cells_written_ = std::move(counts);
+}
+
+void XdmfSeries::write() {
+  write_cells();
+  write_text_atomically(xmf_, xdmf_document(entries_, cells_path().filename().string()));
 }
 
 }  // namespace shatter::io

@@ -285,6 +285,7 @@ MeshSolid::MeshSolid(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   for (const auto& t : mesh_.triangles) {
     volume_ += mesh_.vertices[t[0]].dot(mesh_.vertices[t[1]].cross(mesh_.vertices[t[2]])) / 6.0;
   }
+  orientation_ = volume_ < 0.0 ? -1.0 : 1.0;
   volume_ = std::abs(volume_);
   // About two triangles per bin on a sphere-like surface (one layer above, one below).
   const int n =

@@ -162,7 +162,7 @@ void read_output(Reader& root, Scene& scene) {
   }
   Reader r(*t, "output", root.where("output"));
   r.allow({"directory", "snapshot_every", "columns", "checkpoint_every", "timeseries_every",
-           "progress_every", "fragments", "snapshot_precision"});
+           "progress_every", "fragments", "snapshot_precision", "ss_radius"});
   r.reject_unknown();
   OutputSpec& o = scene.output;
   o.directory = r.string("directory", "out/" + scene.name);
@@ -188,6 +188,9 @@ void read_output(Reader& root, Scene& scene) {
   if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");
   o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));
   o.fragments = r.boolean("fragments", true);
+  // The pkdgrav hand-off's radii (fragments.ss; docs/outputs.md, "N-body hand-off").
+  scene.fracture.search.ss_radius = ss_radius_by_name(
+      r.choice("ss_radius", "equal_volume", {"equal_volume", "packing_safe"}));
   // Snapshots only: checkpoints are always binary64 (a resume continues bit for bit).
   o.single_precision = r.choice("snapshot_precision", "double", {"double", "single"}) == "single";
 

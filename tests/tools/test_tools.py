@@ -67,3 +67,92 @@ def test_ensemble_stats_summarises_a_table():
     assert r.returncode == 0, r.stderr
     # column a: mean 2, sample standard deviation sqrt(2) (two significant digits), range 1-3
     assert "a: n = 2: 2 ± 1.4 (1-3)" in r.stdout.splitlines(), r.stdout
+
+
+def non_background_pixels(png):
+    """Pixels that differ from render.py's white background by more than 2/255 in any channel
+    (antialiasing and PNG round-off stay under that on the background itself)."""
+    import matplotlib.image
+    import numpy as np
+    rgb = matplotlib.image.imread(str(png))[:, :, :3]
+    return int(np.count_nonzero(np.any(np.abs(rgb - 1.0) > 2.0 / 255.0, axis=2))), rgb.shape
+
+
+def test_render_draws_the_particles_headless(tiny_run, tmp_path):
+    # No display: the tool runs itself under xvfb-run (ParaView renders through X).
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    r = run([PYTHON, os.path.join(TOOLS, "render.py"), str(tiny_run), "--out", str(tmp_path),
+             "--fields", "damage,speed,peak_pressure", "--size", "320x240", "--animate"],
+            env=env)
+    assert r.returncode == 0, r.stderr[-2000:]
+    snapshots = len(list((tiny_run / "snapshots").glob("snapshot_*.h5")))
+    for field in ("damage", "speed", "peak_pressure"):
+        for view in ("3d", "slice"):
+            n, shape = non_background_pixels(tmp_path / f"{field}_{view}.png")
+            assert shape[:2] == (240, 320)
+            # The particles at 3 px each plus the colour bar: measured 13 100-13 300 (3-D) and
+            # 7 900-8 200 (slab) at this size; a blank view (no cells, as before vertex cells)
+            # has only the colour bar and its labels, about 1 900. The floor of 5 000 tells
+            # them apart.
+            assert n > 5000, (field, view, n)
+        frames = sorted(tmp_path.glob(f"{field}_3d_[0-9]*.png"))
+        assert len(frames) == snapshots
+
+
+def test_render_refuses_a_folder_without_a_run(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    r = run([PYTHON, os.path.join(TOOLS, "render.py"), str(tmp_path)], env=env)
+    assert r.returncode != 0
+    assert "particles.xmf" in r.stderr and "not found" in r.stderr
+
+
+def rock_scene(tmp_path):
+    """tests/fuzz/tiny.toml with its target renamed "rock": a scene the lab-impact figures do not
+    fit (no body named "target"), as a user's own asteroid scene."""
+    with open(TINY) as f:
+        text = f.read()
+    scene = tmp_path / "rock.toml"
+    scene.write_text(text.replace("body.target", "body.rock").replace('target = "target"',
+                                                                      'target = "rock"'))
+    return scene
+
+
+def test_study_sweeps_a_grid_over_seeds_and_resumes(tmp_path):
+    import csv
+    binary = os.environ.get("SHATTER_BINARY", os.path.join(ROOT, "build", "release", "shatter"))
+    out = tmp_path / "study"
+    cmd = [PYTHON, os.path.join(TOOLS, "study.py"), str(rock_scene(tmp_path)), "--out-dir",
+           str(out), "--seeds", "2", "--grid", "impact.speed=2000,3200", "-j", "2",
+           "--times", "5e-7", "--lab", "--shatter", binary]
+    r = run(cmd)
+    assert r.returncode == 0, r.stdout + r.stderr
+    with open(out / "study.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert sorted((row["point"], row["seed"]) for row in rows) == [
+        ("impact.speed=2000", "1"), ("impact.speed=2000", "2"),
+        ("impact.speed=3200", "1"), ("impact.speed=3200", "2")]
+    for row in rows:
+        assert 0.0 <= float(row["failure_end"]) <= 1.0
+        assert 0.0 <= float(row["failure_at_5e-07s"]) <= float(row["failure_end"])
+        assert 0.0 < float(row["largest_fraction"]) <= 1.0
+    # Faster impact, more failure by the end (same seeds): the grid value reached the runs.
+    fail = {(row["point"], row["seed"]): float(row["failure_end"]) for row in rows}
+    for seed in ("1", "2"):
+        assert fail[("impact.speed=3200", seed)] > fail[("impact.speed=2000", seed)]
+    assert "lab-impact figures skipped" in r.stderr
+    md = (out / "study.md").read_text()
+    assert "| impact.speed=2000 | 2 |" in md and "| impact.speed=3200 | 2 |" in md
+    # Restartable: a second call runs nothing again.
+    r = run(cmd)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.count("finished before") == 4, r.stdout
+
+
+def test_ensemble_summarises_a_scene_without_a_target(tmp_path):
+    binary = os.environ.get("SHATTER_BINARY", os.path.join(ROOT, "build", "release", "shatter"))
+    ens = tmp_path / "ens"
+    r = run([PYTHON, os.path.join(TOOLS, "ensemble.py"), str(rock_scene(tmp_path)), "--out-dir",
+             str(ens), "--seeds", "2", "--shatter", binary, "--nice", "0"])
+    assert r.returncode == 0, r.stdout + r.stderr  # was KeyError: 'centre'
+    assert "lab-impact figures (shells, core, offset) are NaN" in r.stderr
+    assert (ens / "ensemble.md").stat().st_size > 0

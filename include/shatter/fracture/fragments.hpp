@@ -14,6 +14,12 @@
 
 namespace shatter {
 
+// Radius of an ss record (pkdgrav hand-off, below): equal_volume, the sphere of the fragment's
+// (or point's) volume; or packing_safe, the smaller of that and half the distance to the nearest
+// other record, so that no two spheres overlap (r_i + r_j <= |x_i - x_j|), as pkdgrav's
+// collision search expects of its initial conditions.
+enum class SsRadius { equal_volume, packing_safe };
+
 struct FragmentSearchSpec {
   std::string method = "grid_density";  // grid_density (MPM paper) | friends_of_friends (BA95)
   double damage_threshold = 0.9;        // failed = D >= threshold
@@ -34,6 +40,9 @@ struct FragmentSearchSpec {
   // closer than (h_i + h_j) / 2, h = smoothing_factor (mass / rho)^{1/3} (the SPH solver's rule,
   // so the factor is solver.sph.h_factor). Needs mass and rho; cell_size grows to max h if needed.
   double smoothing_factor = 0.0;
+  // The pkdgrav hand-off's radius (the run passes only this spec to the report, so the choice of
+  // output.ss_radius travels with it).
+  SsRadius ss_radius = SsRadius::equal_volume;
 };
 
 struct Fragment {
@@ -120,17 +129,28 @@ double time();                                     // s, sqrt(AU^3 / GM) ~ 1 yr 
 }  // namespace pkdgrav_units
 void write_ss(const SsFile& ss, const std::filesystem::path& file);
 SsFile read_ss(const std::filesystem::path& file);  // throws naming the file when malformed
-// Colour of body b in ss files: pkdgrav's palette from green (3), skipping its reserved colours
-// 2 (Jupiter) and 5 (Sun); dust (no fragment) is 1.
+// Colours in ss files: a palette from tipsy's colour table, 3, 4, 8, 9, 10, 12, 13, 14, 15,
+// free of the colours ssdefs.h reserves for the Sun and the planets (5, 2, 11, 6, 7); body b
+// (or fragment b) gets palette[b mod 9], so colours stay in 3..15 however many there are. Dust
+// (a point in no fragment) is 1.
+inline constexpr std::int32_t kSsDustColour = 1;
 std::int32_t ss_body_colour(std::int64_t body);
 std::int32_t ss_fragment_colour(std::int64_t fragment);
-// One record per fragment: mass, radius of equal volume, centre, velocity, spin; colour = the
-// body giving most of its mass (needs add_composition; else 3), org_idx = fragment id.
-SsFile fragments_ss(const FragmentCatalogue& cat, double time);
+const std::vector<std::int32_t>& ss_palette();
+SsRadius ss_radius_by_name(const std::string& name);  // throws naming the allowed values
+// Shrinks each record's radius to at most half its nearest-neighbour distance; returns how many
+// were shrunk.
+std::size_t apply_packing_safe_radius(SsFile& ss);
+// One record per fragment: mass, radius (equal volume unless packing_safe), centre, velocity,
+// spin; colour = the body giving most of its mass (needs add_composition; else body 0's),
+// org_idx = fragment id.
+SsFile fragments_ss(const FragmentCatalogue& cat, double time,
+                    SsRadius radius = SsRadius::equal_volume);
 // One record per particle (every point still in the simulation, for rubble-pile
-// reaccumulation): radius of its volume (mass / rho), colour = its fragment (dust 1),
-// org_idx = its index. Needs mass, rho, positions, velocities and IField::fragment.
-SsFile particles_ss(const ParticleStore& store, double time);
+// reaccumulation): radius of its volume (mass / rho) unless packing_safe, colour = its fragment
+// (dust 1), org_idx = its index. Needs mass, rho, positions, velocities and IField::fragment.
+SsFile particles_ss(const ParticleStore& store, double time,
+                    SsRadius radius = SsRadius::equal_volume);
 void write_cumulative_mass_csv(const FragmentCatalogue& cat, const std::filesystem::path& file);
 
 }  // namespace shatter

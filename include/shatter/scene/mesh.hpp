@@ -53,11 +53,20 @@ class MeshSolid {
   // Enclosed volume by the divergence theorem (sum of signed tetrahedra from the origin).
   double volume() const { return volume_; }
   std::size_t triangle_count() const { return mesh_.triangles.size(); }
+  // The first crossing of the surface by the ray origin + t dir (t > 0, dir a unit vector): the
+  // distance t, the point, and the outward unit normal of the triangle hit
+  // (src/scene/mesh_ray.cpp).
+  struct RayHit {
+    double t = 0.0;
+    Eigen::Vector3d point, normal;
+  };
+  std::optional<RayHit> first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const;
 
  private:
   TriangleMesh mesh_;
   Eigen::Vector3d lo_, hi_;
   double volume_ = 0.0;
+  double orientation_ = 1.0;  // +1 when the triangles wind counter-clockwise seen from outside
   int nx_ = 1, ny_ = 1;
   double bin_x_ = 1.0, bin_y_ = 1.0;
   std::vector<std::vector<std::uint32_t>> bins_;  // triangles whose x-y box meets the bin
