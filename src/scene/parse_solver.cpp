@@ -27,21 +27,8 @@ BoundaryKind boundary_of(const std::string& s) {
   return BoundaryKind::none;
 }
 
-}  // namespace
-
-void read_solver(Reader& root, Scene& scene) {
-  root.note_default("solver", "*required*");
-  toml::table* t = root.subtable("solver");
-  if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
-  Reader r(*t, "solver");
-  r.allow({"method",           "shape",          "transfer",     "cell_size",  "cfl",
-           "end_time",         "dt_max",         "dt_min",       "gravity",    "symmetry_plane",
-           "reorder_interval", "viscosity",      "sph",          "contact",    "friction",
-           "contact_pair",     "dt_floor_ratio", "pic_fraction", "xpic_order", "fmpm_order",
-           "filter_every",     "filter_heat"});
-  r.reject_unknown();
-
-  SolverConfig& c = scene.solver;
+// solver.shape and solver.transfer, and the pairing the transfer needs from the shape.
+void read_shape_and_transfer(Reader& r, SolverConfig& c) {
   const std::string shape = r.choice("shape", "ugimp", kShapes);
   c.shape = shape == "linear"  ? ShapeKind::linear
             : shape == "ugimp" ? ShapeKind::ugimp
@@ -59,6 +46,11 @@ void read_solver(Reader& root, Scene& scene) {
            "\"apic\" needs a smooth shape function (solver.shape = \"ugimp\" or "
            "\"bspline2\"), not \"linear\"");
   }
+}
+
+// The options of one transfer scheme (pic_fraction, xpic_order, fmpm_order, filter_every,
+// filter_heat): each refused under a transfer it does not apply to.
+void read_transfer_options(Reader& r, SolverConfig& c) {
   // FLIP/PIC blend fraction (flip only) and XPIC order (xpic only); TransferKind says what each
   // does. The blend is read only when given, so scenes without it resolve as before.
   r.note_range("pic_fraction", "[0, 1]; flip only; absent = 0 (pure FLIP)");
@@ -110,6 +102,11 @@ void read_solver(Reader& root, Scene& scene) {
              "\"flip\" with pic_fraction > 0 (plain FLIP removes no kinetic energy; APIC's affine "
              "velocity keeps part of what its update drops)");
   }
+}
+
+// Grid spacing, time-step control and the end time, gravity, the symmetry plane, re-ordering.
+void read_step_control(Reader& r, Scene& scene) {
+  SolverConfig& c = scene.solver;
   c.cell_size = r.positive("cell_size", r.number("cell_size"));
   r.within("cell_size", c.cell_size, ranges::kMinLength, ranges::kMaxLength, "m",
            ranges::kLengthReason);
@@ -142,7 +139,10 @@ void read_solver(Reader& root, Scene& scene) {
   r.note_range("reorder_interval", ">= 0", "steps");
   if (reorder < 0) r.fail("reorder_interval", "must be >= 0");
   c.reorder_interval = static_cast<unsigned>(reorder);
+}
 
+// solver.method and [solver.sph] (read when given, or with method = "sph").
+void read_method_and_sph(Reader& r, Scene& scene) {
   // The method (issue 10): MPM (default; not written back, so MPM scenes resolve as before) or
   // Benz & Asphaug's SPH (include/shatter/sph/solver.hpp).
   if (r.has("method")) scene.method = r.choice("method", "mpm", kMethods);
@@ -178,7 +178,47 @@ void read_solver(Reader& root, Scene& scene) {
                                       scene.sph.alpha_min, scene.sph.alpha_max));
     }
   }
+}
 
+// [[solver.contact_pair]]: per-pair Coulomb coefficients, resolved to body ids once the bodies are
+// read (resolve_contact_pairs).
+void read_contact_pairs(Reader& r, Scene& scene) {
+  r.note_type("contact_pair", "array of tables");
+  if (toml::node* pairs = r.table().get("contact_pair")) {
+    toml::array* a = pairs->as_array();
+    if (a == nullptr) {
+      r.fail("contact_pair",
+             "must be an array of tables ([[solver.contact_pair]] with bodies and friction)");
+    }
+    for (std::size_t k = 0; k < a->size(); ++k) {
+      toml::table* pt = (*a)[k].as_table();
+      const std::string path = fmt::format("solver.contact_pair[{}]", k);
+      if (pt == nullptr) r.fail("contact_pair", fmt::format("element {} is not a table", k));
+      Reader q(*pt, path, r.where("contact_pair"));
+      q.allow({"bodies", "friction"});
+      q.reject_unknown();
+      ContactPairSpec spec;
+      spec.where = q.where("bodies");
+      spec.key = q.key_path("bodies");
+      q.note_type("bodies", "[\"body\", \"body\"]");
+      q.note_default("bodies", "*required*");
+      const toml::node* names = q.table().get("bodies");
+      const toml::array* na = names ? names->as_array() : nullptr;
+      if (na == nullptr || na->size() != 2 || !(*na)[0].is_string() || !(*na)[1].is_string()) {
+        q.fail("bodies", "must be an array of two body names, e.g. [\"projectile\", \"target\"]");
+      }
+      spec.a = (*na)[0].as_string()->get();
+      spec.b = (*na)[1].as_string()->get();
+      if (spec.a == spec.b) q.fail("bodies", "must name two different bodies");
+      spec.friction = q.non_negative("friction", q.number("friction"));
+      scene.contact_pairs.push_back(spec);
+    }
+  }
+}
+
+// solver.contact, with friction and the contact pairs for multi-field contact.
+void read_contact(Reader& r, Scene& scene) {
+  SolverConfig& c = scene.solver;
   // Contact between bodies (engine/config.hpp ContactKind). The paper's single shared field is
   // the default: it is what the paper ran, and it keeps earlier results bitwise.
   const std::string contact = r.choice("contact", "single_field", kContacts);
@@ -195,39 +235,12 @@ void read_solver(Reader& root, Scene& scene) {
   } else {
     // Coulomb coefficient of every pair of bodies not listed in contact_pair.
     c.contact.friction = r.non_negative("friction", r.number("friction", 0.0));
-    r.note_type("contact_pair", "array of tables");
-    if (toml::node* pairs = r.table().get("contact_pair")) {
-      toml::array* a = pairs->as_array();
-      if (a == nullptr) {
-        r.fail("contact_pair",
-               "must be an array of tables ([[solver.contact_pair]] with bodies and friction)");
-      }
-      for (std::size_t k = 0; k < a->size(); ++k) {
-        toml::table* pt = (*a)[k].as_table();
-        const std::string path = fmt::format("solver.contact_pair[{}]", k);
-        if (pt == nullptr) r.fail("contact_pair", fmt::format("element {} is not a table", k));
-        Reader q(*pt, path, r.where("contact_pair"));
-        q.allow({"bodies", "friction"});
-        q.reject_unknown();
-        ContactPairSpec spec;
-        spec.where = q.where("bodies");
-        spec.key = q.key_path("bodies");
-        q.note_type("bodies", "[\"body\", \"body\"]");
-        q.note_default("bodies", "*required*");
-        const toml::node* names = q.table().get("bodies");
-        const toml::array* na = names ? names->as_array() : nullptr;
-        if (na == nullptr || na->size() != 2 || !(*na)[0].is_string() || !(*na)[1].is_string()) {
-          q.fail("bodies", "must be an array of two body names, e.g. [\"projectile\", \"target\"]");
-        }
-        spec.a = (*na)[0].as_string()->get();
-        spec.b = (*na)[1].as_string()->get();
-        if (spec.a == spec.b) q.fail("bodies", "must name two different bodies");
-        spec.friction = q.non_negative("friction", q.number("friction"));
-        scene.contact_pairs.push_back(spec);
-      }
-    }
+    read_contact_pairs(r, scene);
   }
+}
 
+// [solver.viscosity]: the artificial bulk viscosity's coefficients.
+void read_viscosity(Reader& r, SolverConfig& c) {
   toml::table* v = r.subtable("viscosity");
   if (v == nullptr) {
     r.table().insert("viscosity", toml::table{});
@@ -239,6 +252,28 @@ void read_solver(Reader& root, Scene& scene) {
   // Defaults are the common hydrocode choice (LS-DYNA's Q2 = 0.06 and Q1^2 = 1.5^2).
   c.viscosity.linear = q.non_negative("linear", q.number("linear", 0.06));
   c.viscosity.quadratic = q.non_negative("quadratic", q.number("quadratic", 2.25));
+}
+
+}  // namespace
+
+void read_solver(Reader& root, Scene& scene) {
+  root.note_default("solver", "*required*");
+  toml::table* t = root.subtable("solver");
+  if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
+  Reader r(*t, "solver");
+  r.allow({"method",           "shape",          "transfer",     "cell_size",  "cfl",
+           "end_time",         "dt_max",         "dt_min",       "gravity",    "symmetry_plane",
+           "reorder_interval", "viscosity",      "sph",          "contact",    "friction",
+           "contact_pair",     "dt_floor_ratio", "pic_fraction", "xpic_order", "fmpm_order",
+           "filter_every",     "filter_heat"});
+  r.reject_unknown();
+
+  read_shape_and_transfer(r, scene.solver);
+  read_transfer_options(r, scene.solver);
+  read_step_control(r, scene);
+  read_method_and_sph(r, scene);
+  read_contact(r, scene);
+  read_viscosity(r, scene.solver);
 }
 
 void read_domain(Reader& root, Scene& scene) {

@@ -115,7 +115,21 @@ class SparseGrid {
   void clear_nodes();
 
  private:
+  // The pieces of assign(), in order.
+  bool same_input(std::span<const std::uint64_t> owner_keys, std::span<const std::int64_t> bodies,
+                  std::span<const std::int64_t> ids) const;
+  void allocate_blocks(const std::vector<std::uint64_t>& owners);
+  void link_neighbours(const std::vector<std::uint64_t>& owners);
+  void sort_particles(std::span<const std::uint64_t> owner_keys,
+                      std::span<const std::int64_t> bodies, std::span<const std::int64_t> ids);
+  void size_nodes();
+  // The body fields (see assign), and its pieces.
   void assign_bodies(std::span<const std::int64_t> bodies);
+  std::vector<std::vector<std::int64_t>> find_meetings(const std::vector<std::uint32_t>& bstart,
+                                                       const std::vector<std::int64_t>& blist);
+  void add_copies(std::vector<std::vector<std::int64_t>>& sets);
+  void link_copies(std::span<const std::int64_t> bodies, const std::vector<std::uint32_t>& bstart,
+                   const std::vector<std::int64_t>& blist);
 
   std::vector<std::uint64_t> last_keys_;
   std::vector<std::uint64_t> block_keys_;  // sorted
