@@ -65,8 +65,8 @@ std::string nearest_command(const std::string& word, const std::vector<std::stri
 }
 
 // The command line: every subcommand with the values CLI11 fills as it parses, and the call each
-// subcommand makes once parsed. Options that only matter when given are read through their
-// CLI::Option (count() > 0) so the command's own default stays the one in its options struct.
+// subcommand makes once parsed. An option that only matters when given fills a std::optional, so
+// the command's own default stays the one in its options struct.
 struct CommandLine {
   CLI::App app{"shatter: MPM shock physics for hypervelocity impacts on rock and asteroids"};
   bool quiet = false;
@@ -80,25 +80,16 @@ struct CommandLine {
   std::string check_file;
   CLI::App* reference = nullptr;
   std::vector<std::string> reference_roots;
-  std::string reference_write;
-  CLI::Option* reference_write_opt = nullptr;
+  std::optional<std::filesystem::path> reference_write;
   CLI::App* resume = nullptr;
   std::string checkpoint;
 
   CLI::App* fragments = nullptr;
   std::string snapshot;
   shatter::cli::FragmentOptions fragment_options;
-  double threshold = 0.0, smoothing_factor = 0.0, static_strength = 0.0;
-  std::string method, prefix;
-  CLI::Option *threshold_opt = nullptr, *method_opt = nullptr, *prefix_opt = nullptr;
-  CLI::Option *smoothing_opt = nullptr, *static_opt = nullptr;
 
   CLI::App* material = nullptr;
   shatter::cli::MaterialOptions material_options;
-  std::string material_out, material_catalogue;
-  double up_max = 0.0, ref_rho = 0.0, ref_energy = 0.0;
-  CLI::Option *up_max_opt = nullptr, *ref_rho_opt = nullptr, *ref_energy_opt = nullptr;
-  CLI::Option *material_out_opt = nullptr, *material_catalogue_opt = nullptr;
 
   CommandLine() {
     app.set_version_flag("--version", std::string("shatter ") + SHATTER_VERSION);
@@ -155,8 +146,8 @@ struct CommandLine {
         "scene-reference", "print the scene key reference (docs/scenes.md) from the scene reader");
     reference->add_option("SCENES", reference_roots,
                           "scene files or folders read to record the keys (default: scenes)");
-    reference_write_opt = reference->add_option(
-        "--write", reference_write, "replace the generated section of this file (docs/scenes.md)");
+    reference->add_option("--write", reference_write,
+                          "replace the generated section of this file (docs/scenes.md)");
   }
 
   void add_resume() {
@@ -172,15 +163,15 @@ struct CommandLine {
   void add_fragments() {
     fragments = app.add_subcommand("fragments", "find fragments in a snapshot");
     fragments->add_option("SNAPSHOT", snapshot, "snapshot file (HDF5)")->required();
-    threshold_opt =
-        fragments->add_option("--threshold", threshold, "damage at which a point has failed");
-    method_opt = fragments->add_option("--method", method, "grid_density | friends_of_friends");
-    prefix_opt = fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.ss");
-    smoothing_opt = fragments->add_option(
-        "--smoothing-factor", smoothing_factor,
+    fragments->add_option("--threshold", fragment_options.threshold,
+                          "damage at which a point has failed");
+    fragments->add_option("--method", fragment_options.method, "grid_density | friends_of_friends");
+    fragments->add_option("--prefix", fragment_options.prefix, "output files PREFIX.csv/.h5/.ss");
+    fragments->add_option(
+        "--smoothing-factor", fragment_options.smoothing_factor,
         "friends_of_friends: friends within one SPH smoothing length h = F (m/rho)^(1/3) (BA95)");
-    static_opt = fragments->add_option(
-        "--static-strength", static_strength,
+    fragments->add_option(
+        "--static-strength", fragment_options.static_strength,
         "friends_of_friends: undamaged points at this principal tension (Pa) count as failed");
     fragments->add_flag("--ss-particles", fragment_options.ss_particles,
                         "also PREFIX_particles.ss: every point, for reaccumulation");
@@ -198,20 +189,16 @@ struct CommandLine {
     material->add_option("--energy", o.energy, "specific energies, J/kg: E1,E2,...");
     material->add_option("--rho-sweep", o.rho_sweep, "densities MIN:MAX:N");
     material->add_option("--energy-sweep", o.energy_sweep, "energies MIN:MAX:N");
-    up_max_opt = material->add_option("--hugoniot", up_max,
-                                      "principal Hugoniot for particle speeds 0..UP_MAX m/s");
+    material->add_option("--hugoniot", o.up_max,
+                         "principal Hugoniot for particle speeds 0..UP_MAX m/s");
     material->add_option("--points", o.points, "rows of --hugoniot (default 11)");
     material->add_option("--up", o.up, "Hugoniot at these particle speeds, m/s");
-    ref_rho_opt =
-        material->add_option("--ref-rho", ref_rho, "Hugoniot reference density (default rho0)");
-    ref_energy_opt =
-        material->add_option("--ref-energy", ref_energy, "Hugoniot reference energy (default 0)");
+    material->add_option("--ref-rho", o.ref_rho, "Hugoniot reference density (default rho0)");
+    material->add_option("--ref-energy", o.ref_energy, "Hugoniot reference energy (default 0)");
     material->add_option("--param", o.params, "override a parameter: KEY=VALUE")->take_all();
     material->add_flag("--csv", o.csv, "CSV (units in the header) instead of a table");
-    material_out_opt =
-        material->add_option("--out", material_out, "write to this file instead of stdout");
-    material_catalogue_opt =
-        material->add_option("--catalogue", material_catalogue, "catalogue file (TOML)");
+    material->add_option("--out", o.out, "write to this file instead of stdout");
+    material->add_option("--catalogue", o.catalogue, "catalogue file (TOML)");
     material->add_flag("--quiet", quiet, "only warnings and errors");
   }
 
@@ -241,24 +228,6 @@ struct CommandLine {
     return true;
   }
 
-  int fragments_call() {
-    if (threshold_opt->count() > 0) fragment_options.threshold = threshold;
-    if (method_opt->count() > 0) fragment_options.method = method;
-    if (prefix_opt->count() > 0) fragment_options.prefix = prefix;
-    if (smoothing_opt->count() > 0) fragment_options.smoothing_factor = smoothing_factor;
-    if (static_opt->count() > 0) fragment_options.static_strength = static_strength;
-    return shatter::cli::fragments_command(snapshot, fragment_options);
-  }
-
-  int material_call() {
-    if (up_max_opt->count() > 0) material_options.up_max = up_max;
-    if (ref_rho_opt->count() > 0) material_options.ref_rho = ref_rho;
-    if (ref_energy_opt->count() > 0) material_options.ref_energy = ref_energy;
-    if (material_out_opt->count() > 0) material_options.out = material_out;
-    if (material_catalogue_opt->count() > 0) material_options.catalogue = material_catalogue;
-    return shatter::cli::material_command(material_options);
-  }
-
   // Runs the parsed subcommand.
   int dispatch() {
     using namespace shatter::cli;
@@ -266,12 +235,10 @@ struct CommandLine {
     if (resume->parsed()) return resume_command(checkpoint, run_options);
     if (check->parsed()) return check_command(check_file, run_options);
     if (reference->parsed()) {
-      std::optional<std::filesystem::path> write;
-      if (reference_write_opt->count() > 0) write = reference_write;
-      return reference_command({reference_roots.begin(), reference_roots.end()}, write);
+      return reference_command({reference_roots.begin(), reference_roots.end()}, reference_write);
     }
-    if (fragments->parsed()) return fragments_call();
-    if (material->parsed()) return material_call();
+    if (fragments->parsed()) return fragments_command(snapshot, fragment_options);
+    if (material->parsed()) return material_command(material_options);
     return kOk;
   }
 };

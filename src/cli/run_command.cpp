@@ -1,6 +1,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "refused.hpp"
 #include "run_loop.hpp"
 #include "shatter/io/atomic_file.hpp"
 #include "shatter/parallel/comm.hpp"
@@ -90,23 +91,20 @@ bool refuse_too_large(const scene::Scene& s, const std::filesystem::path& scene_
 // run directory is touched. kOk, or kBadInput after reporting why.
 int load_scene(const std::filesystem::path& scene_file, const RunOptions& options, scene::Scene& s,
                scene::BuiltScene& built) {
-  try {
+  bool stop = false;
+  const bool bad_scene = refused(scene_file, [&] {
     s = scene::load_scene(scene_file, options.sets, scene::Points::defer);
     if (auto bad = refused_directory(s, options)) {
       spdlog::error("{}", *bad);
-      return kBadInput;
+      stop = true;
+    } else if (refuse_too_large(s, scene_file)) {
+      stop = true;
+    } else {
+      scene::fill_bodies(s);
+      built = scene::build(s);
     }
-    if (refuse_too_large(s, scene_file)) return kBadInput;
-    scene::fill_bodies(s);
-    built = scene::build(s);
-  } catch (const scene::SceneError& e) {
-    spdlog::error("{}", e.what());
-    return kBadInput;
-  } catch (const std::invalid_argument& e) {
-    spdlog::error("{}: {}", scene_file.string(), e.what());
-    return kBadInput;
-  }
-  return kOk;
+  });
+  return bad_scene || stop ? kBadInput : kOk;
 }
 
 void log_scene(const scene::Scene& s, const std::filesystem::path& scene_file) {

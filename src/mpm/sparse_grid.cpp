@@ -5,18 +5,6 @@
 #include <tbb/parallel_for.h>
 
 namespace shatter {
-namespace {
-
-SparseGrid::Coord decode(std::uint64_t k) {
-  constexpr std::int64_t off = std::int64_t{1} << 20;
-  constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
-  return {static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 42) & mask) - off),
-          static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 21) & mask) - off),
-          static_cast<std::int32_t>(static_cast<std::int64_t>(k & mask) - off)};
-}
-
-}  // namespace
-
 std::int64_t SparseGrid::find(std::uint64_t k) const {
   const auto it = index_.find(k);
   return it == index_.end() ? -1 : static_cast<std::int64_t>(it->second);

@@ -50,6 +50,14 @@ class SparseGrid {
     return (static_cast<std::uint64_t>(bx + off) << 42) |
            (static_cast<std::uint64_t>(by + off) << 21) | static_cast<std::uint64_t>(bz + off);
   }
+  // The inverse of key.
+  static Coord decode(std::uint64_t k) {
+    constexpr std::int64_t off = std::int64_t{1} << 20;
+    constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
+    return {static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 42) & mask) - off),
+            static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 21) & mask) - off),
+            static_cast<std::int32_t>(static_cast<std::int64_t>(k & mask) - off)};
+  }
   static int local(int lx, int ly, int lz) { return (lx * kBlock + ly) * kBlock + lz; }
 
   // Rebuilds blocks, particle lists and colours from the owner-block keys of all particles
