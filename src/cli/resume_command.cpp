@@ -13,10 +13,12 @@
 namespace shatter::cli {
 namespace {
 
-// A resumed run continues bit for bit only if the physics is unchanged: only the end time and
-// the output settings may be overridden.
+// A resumed run continues bit for bit only if the physics is unchanged: only the end time, the
+// output settings and the MPI load balancing (no bit depends on the cut, docs/mpi.md) may be
+// overridden.
 bool allowed_on_resume(const std::string& assignment) {
-  return assignment.rfind("output.", 0) == 0 || assignment.rfind("solver.end_time=", 0) == 0;
+  return assignment.rfind("output.", 0) == 0 || assignment.rfind("solver.end_time=", 0) == 0 ||
+         assignment.rfind("solver.mpi.", 0) == 0;
 }
 
 // The step of the last time-series row the checkpoint covers: the rows the run wrote on its own
@@ -37,8 +39,8 @@ bool refuse_arguments(const std::filesystem::path& file, const RunOptions& optio
   for (const auto& o : options.sets) {
     if (!allowed_on_resume(o)) {
       spdlog::error(
-          "--set {}: a resumed run may change only solver.end_time and output.* (the "
-          "rest would break the bit-for-bit continuation)",
+          "--set {}: a resumed run may change only solver.end_time, output.* and solver.mpi.* "
+          "(the rest would break the bit-for-bit continuation)",
           o);
       return true;
     }

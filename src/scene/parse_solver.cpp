@@ -48,6 +48,23 @@ void read_shape_and_transfer(Reader& r, SolverConfig& c) {
   }
 }
 
+// An order key of a filtering transfer (xpic_order, fmpm_order): an integer in [1, 32], read
+// when `applies` (the transfer is `transfer`), else refused when given. Orders past ~40 are
+// unstable (Hammerquist & Nairn 2017; each order is one more grid-particle-grid pass) and the
+// binomial weights C(m, k) lose precision; FMPM(k) makes the same passes, so the same bound
+// (Nairn 2026, arXiv 2604.07307, finds high orders need smaller time steps: large k is for
+// study, not production).
+void read_order(Reader& r, const char* key, bool applies, const char* transfer, int& order) {
+  if (!applies) {
+    if (r.has(key))
+      r.fail(key, fmt::format("applies only with solver.transfer = \"{}\"", transfer));
+    return;
+  }
+  const auto v = r.integer(key, order);
+  if (v < 1 || v > 32) r.fail(key, fmt::format("must be an integer in [1, 32] (got {})", v));
+  order = static_cast<int>(v);
+}
+
 // The options of one transfer scheme (pic_fraction, xpic_order, fmpm_order, filter_every,
 // filter_heat): each refused under a transfer it does not apply to.
 void read_transfer_options(Reader& r, SolverConfig& c) {
@@ -62,27 +79,14 @@ void read_transfer_options(Reader& r, SolverConfig& c) {
       r.fail("pic_fraction", fmt::format("must be in [0, 1] (got {})", *f));
     c.pic_fraction = *f;
   }
-  if (c.transfer == TransferKind::xpic) {
-    const auto order = r.integer("xpic_order", c.xpic_order);
-    if (order < 1 || order > 32)
-      r.fail("xpic_order", fmt::format("must be an integer in [1, 32] (got {})", order));
-    c.xpic_order = static_cast<int>(order);
-  } else if (r.has("xpic_order")) {
-    r.fail("xpic_order", "applies only with solver.transfer = \"xpic\"");
-  }
+  read_order(r, "xpic_order", c.transfer == TransferKind::xpic, "xpic", c.xpic_order);
   // FMPM order (fmpm only) and the periodic filter (xpic and fmpm: the filtered update on every
   // N-th step, FLIP on the others).
   r.note_range("fmpm_order", "[1, 32]; fmpm only");
-  if (c.transfer == TransferKind::fmpm) {
-    const auto order = r.integer("fmpm_order", c.fmpm_order);
-    if (order < 1 || order > 32)
-      r.fail("fmpm_order", fmt::format("must be an integer in [1, 32] (got {})", order));
-    c.fmpm_order = static_cast<int>(order);
-  } else if (r.has("fmpm_order")) {
-    r.fail("fmpm_order", "applies only with solver.transfer = \"fmpm\"");
-  }
+  read_order(r, "fmpm_order", c.transfer == TransferKind::fmpm, "fmpm", c.fmpm_order);
   r.note_range("filter_every", "integer >= 1 (steps); xpic and fmpm only; absent = 1");
   if (r.has("filter_every")) {
+    // APIC's C_p and the blend's fraction act on every step; a FLIP step would drop C_p.
     if (c.transfer != TransferKind::xpic && c.transfer != TransferKind::fmpm)
       r.fail("filter_every", "applies only with solver.transfer = \"xpic\" or \"fmpm\"");
     const auto every = r.integer("filter_every", 1);
@@ -148,11 +152,8 @@ void read_method_and_sph(Reader& r, Scene& scene) {
   if (r.has("method")) scene.method = r.choice("method", "mpm", kMethods);
   toml::table* sph = r.subtable("sph");
   if (sph != nullptr || scene.method == "sph") {
-    if (sph == nullptr) {
-      r.table().insert("sph", toml::table{});
-      sph = r.subtable("sph");
-    }
-    Reader q(*sph, "solver.sph", r.where("sph"));
+    toml::table& t = table_or_empty(r, "sph");
+    Reader q(t, "solver.sph", r.where("sph"));
     q.allow({"h_factor", "alpha", "beta", "skin", "continuity", "viscosity_switch", "alpha_min",
              "alpha_max", "switch_decay"});
     q.reject_unknown();
@@ -239,14 +240,35 @@ void read_contact(Reader& r, Scene& scene) {
   }
 }
 
+// [solver.mpi]: the load balancing of a run on several MPI ranks (MpiTuning, docs/mpi.md), MPM
+// only; written into the run's scene copy so that a run records the values it ran with.
+void read_mpi(Reader& r, Scene& scene) {
+  if (scene.method != "mpm") {
+    if (r.has("mpi"))
+      r.fail("mpi", "applies only with solver.method = \"mpm\" (SPH runs on one rank)");
+    return;
+  }
+  MpiTuning& m = scene.solver.mpi;
+  toml::table& t = table_or_empty(r, "mpi");
+  Reader q(t, "solver.mpi", r.where("mpi"));
+  q.allow({"rebalance_every", "imbalance"});
+  q.reject_unknown();
+  const auto every = q.integer("rebalance_every", m.rebalance_every);
+  q.note_range("rebalance_every", ">= 1", "steps");
+  if (every < 1 || every > std::numeric_limits<int>::max())
+    q.fail("rebalance_every", fmt::format("must be an integer >= 1 (got {})", every));
+  m.rebalance_every = static_cast<unsigned>(every);
+  m.imbalance = q.number("imbalance", m.imbalance);
+  // max/mean is >= 1 on any cut: 1 recuts at every check (the MPI tests' setting).
+  q.note_range("imbalance", ">= 1 (largest / mean particles per rank); 1 = recut at every check");
+  if (!(m.imbalance >= 1.0 && std::isfinite(m.imbalance)))
+    q.fail("imbalance", fmt::format("must be a number >= 1 (got {})", m.imbalance));
+}
+
 // [solver.viscosity]: the artificial bulk viscosity's coefficients.
 void read_viscosity(Reader& r, SolverConfig& c) {
-  toml::table* v = r.subtable("viscosity");
-  if (v == nullptr) {
-    r.table().insert("viscosity", toml::table{});
-    v = r.subtable("viscosity");
-  }
-  Reader q(*v, "solver.viscosity", r.where("viscosity"));
+  toml::table& v = table_or_empty(r, "viscosity");
+  Reader q(v, "solver.viscosity", r.where("viscosity"));
   q.allow({"linear", "quadratic"});
   q.reject_unknown();
   // Defaults are the common hydrocode choice (LS-DYNA's Q2 = 0.06 and Q1^2 = 1.5^2).
@@ -265,7 +287,7 @@ void read_solver(Reader& root, Scene& scene) {
            "end_time",         "dt_max",         "dt_min",       "gravity",    "symmetry_plane",
            "reorder_interval", "viscosity",      "sph",          "contact",    "friction",
            "contact_pair",     "dt_floor_ratio", "pic_fraction", "xpic_order", "fmpm_order",
-           "filter_every",     "filter_heat"});
+           "filter_every",     "filter_heat",    "mpi"});
   r.reject_unknown();
 
   read_shape_and_transfer(r, scene.solver);
@@ -274,18 +296,15 @@ void read_solver(Reader& root, Scene& scene) {
   read_method_and_sph(r, scene);
   read_contact(r, scene);
   read_viscosity(r, scene.solver);
+  read_mpi(r, scene);
 }
 
 void read_domain(Reader& root, Scene& scene) {
   Domain& d = scene.solver.domain;
   const double h = scene.solver.cell_size;
   const int sym = scene.symmetry_axis;
-  toml::table* t = root.subtable("domain");
-  if (t == nullptr) {
-    root.table().insert("domain", toml::table{});
-    t = root.subtable("domain");
-  }
-  Reader r(*t, "domain", root.where("domain"));
+  toml::table& t = table_or_empty(root, "domain");
+  Reader r(t, "domain", root.where("domain"));
   std::vector<std::string> allowed = {"lo", "hi", "boundary"};
   allowed.insert(allowed.end(), kFaces.begin(), kFaces.end());
   r.allow(allowed);
