@@ -8,7 +8,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
-#include "../src/mpm/boundaries.hpp"
+#include "shatter/mpm/boundaries.hpp"
 #include "support/stages.hpp"
 
 namespace {

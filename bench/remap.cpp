@@ -4,7 +4,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
-#include "../src/mpm/boundaries.hpp"  // engine-internal: the real nodal pass, not a copy
+#include "shatter/mpm/boundaries.hpp"  // the real nodal pass, not a copy
 #include "support/stages.hpp"
 
 namespace {

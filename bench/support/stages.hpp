@@ -10,11 +10,11 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "../../src/mpm/kernel_inputs.hpp"  // engine-internal: the engine's input set-up
 #include "bodies.hpp"
 #include "mpm/g2p.hpp"
 #include "mpm/p2g.hpp"
 #include "mpm/velocity_gradient.hpp"
+#include "shatter/mpm/kernel_inputs.hpp"  // the engine's own input set-up
 
 namespace shatter::bench {
 

@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "refused.hpp"
 #include "shatter/mpm/simulation.hpp"
 #include "shatter/parallel/comm.hpp"
 #include "shatter/scene/build.hpp"
@@ -20,22 +21,6 @@ namespace {
 int threads_used(int requested) {
   if (requested > 0) return requested;
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-}
-
-// Runs `read` (the scene's reading and set-up); a scene refused there is reported and gives
-// kBadInput, as in `shatter run`.
-template <class Read>
-bool refused(const std::filesystem::path& scene_file, Read&& read) {
-  try {
-    read();
-  } catch (const scene::SceneError& err) {
-    spdlog::error("{}", err.what());
-    return true;
-  } catch (const std::invalid_argument& err) {
-    spdlog::error("{}: {}", scene_file.string(), err.what());
-    return true;
-  }
-  return false;
 }
 
 // What a stage does beyond its name, where the scene decides it: contact is resolved inside

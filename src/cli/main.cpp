@@ -64,20 +64,46 @@ std::string nearest_command(const std::string& word, const std::vector<std::stri
   return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
 }
 
-}  // namespace
-
-int shatter_main(int argc, char** argv) {
-  using namespace shatter::cli;
+// The command line: every subcommand with the values CLI11 fills as it parses, and the call each
+// subcommand makes once parsed. An option that only matters when given fills a std::optional, so
+// the command's own default stays the one in its options struct.
+struct CommandLine {
   CLI::App app{"shatter: MPM shock physics for hypervelocity impacts on rock and asteroids"};
-  app.set_version_flag("--version", std::string("shatter ") + SHATTER_VERSION);
-  app.require_subcommand(1);
-
   bool quiet = false;
   std::string log_file;
-  RunOptions run_options;
+  shatter::cli::RunOptions run_options;
   std::string out_dir;
 
-  auto add_run_flags = [&](CLI::App* cmd) {
+  CLI::App* run = nullptr;
+  std::string scene_file;
+  CLI::App* check = nullptr;
+  std::string check_file;
+  CLI::App* reference = nullptr;
+  std::vector<std::string> reference_roots;
+  std::optional<std::filesystem::path> reference_write;
+  CLI::App* resume = nullptr;
+  std::string checkpoint;
+
+  CLI::App* fragments = nullptr;
+  std::string snapshot;
+  shatter::cli::FragmentOptions fragment_options;
+
+  CLI::App* material = nullptr;
+  shatter::cli::MaterialOptions material_options;
+
+  CommandLine() {
+    app.set_version_flag("--version", std::string("shatter ") + SHATTER_VERSION);
+    app.require_subcommand(1);
+    add_run();
+    add_check();
+    add_reference();
+    add_resume();
+    add_fragments();
+    add_material();
+  }
+
+  // The flags run and resume share.
+  void add_run_flags(CLI::App* cmd) {
     cmd->add_option("--out", out_dir, "run directory (default: the scene's output.directory)");
     // Bounded: oneTBB crashes on an arena of a billion threads (found by tests/fuzz).
     cmd->add_option("--threads", run_options.threads,
@@ -89,152 +115,151 @@ int shatter_main(int argc, char** argv) {
     cmd->add_option("--log", log_file, "also write the log to this file");
     cmd->add_flag("--take-lock", run_options.take_lock,
                   "take over the run directory's lock left by a run on another host that ended");
-  };
+  }
 
-  std::string scene_file;
-  CLI::App* run = app.add_subcommand("run", "run a scene");
-  run->add_option("SCENE", scene_file, "scene file (TOML)")->required();
-  run->add_flag("--overwrite", run_options.overwrite, "replace a previous run in the directory");
-  run->add_flag(
-      "--check", run_options.check,
-      "check the scene and set the run up (points, materials), then stop; writes nothing");
-  add_run_flags(run);
+  void add_run() {
+    run = app.add_subcommand("run", "run a scene");
+    run->add_option("SCENE", scene_file, "scene file (TOML)")->required();
+    run->add_flag("--overwrite", run_options.overwrite, "replace a previous run in the directory");
+    run->add_flag(
+        "--check", run_options.check,
+        "check the scene and set the run up (points, materials), then stop; writes nothing");
+    add_run_flags(run);
+  }
 
-  std::string check_file;
-  CLI::App* check = app.add_subcommand(
-      "check", "validate a scene and estimate its points, memory, steps and run time (no run)");
-  check->add_option("SCENE", check_file, "scene file (TOML)")->required();
-  check->add_option("--threads", run_options.threads, "threads the run-time estimate assumes")
-      ->check(CLI::Range(0, 4096));
-  check->add_option("--set", run_options.sets, "override a scene key: dotted.key=value")
-      ->take_all();
-  check->add_flag("--quiet", quiet, "only warnings and errors");
-  check->add_flag("--stages", run_options.stages,
-                  "also print the step's stage list as the scene builds it (transfer, filters, "
-                  "outflow, MPI exchanges); creates the particles, as run --check does");
+  void add_check() {
+    check = app.add_subcommand(
+        "check", "validate a scene and estimate its points, memory, steps and run time (no run)");
+    check->add_option("SCENE", check_file, "scene file (TOML)")->required();
+    check->add_option("--threads", run_options.threads, "threads the run-time estimate assumes")
+        ->check(CLI::Range(0, 4096));
+    check->add_option("--set", run_options.sets, "override a scene key: dotted.key=value")
+        ->take_all();
+    check->add_flag("--quiet", quiet, "only warnings and errors");
+    check->add_flag("--stages", run_options.stages,
+                    "also print the step's stage list as the scene builds it (transfer, filters, "
+                    "outflow, MPI exchanges); creates the particles, as run --check does");
+  }
 
-  std::vector<std::string> reference_roots;
-  std::string reference_write;
-  CLI::App* reference = app.add_subcommand(
-      "scene-reference", "print the scene key reference (docs/scenes.md) from the scene reader");
-  reference->add_option("SCENES", reference_roots,
-                        "scene files or folders read to record the keys (default: scenes)");
-  auto* reference_write_opt = reference->add_option(
-      "--write", reference_write, "replace the generated section of this file (docs/scenes.md)");
+  void add_reference() {
+    reference = app.add_subcommand(
+        "scene-reference", "print the scene key reference (docs/scenes.md) from the scene reader");
+    reference->add_option("SCENES", reference_roots,
+                          "scene files or folders read to record the keys (default: scenes)");
+    reference->add_option("--write", reference_write,
+                          "replace the generated section of this file (docs/scenes.md)");
+  }
 
-  std::string checkpoint;
-  CLI::App* resume = app.add_subcommand("resume", "continue a run from its checkpoint");
-  resume->add_option("CHECKPOINT", checkpoint, "checkpoint file (run directory/checkpoint.h5)")
-      ->required();
-  add_run_flags(resume);
-  resume->add_flag("--accept-timeseries-gap", run_options.accept_timeseries_gap,
-                   "continue a timeseries.csv that lost rows the checkpoint covers (deleted, "
-                   "emptied or truncated), leaving the gap");
+  void add_resume() {
+    resume = app.add_subcommand("resume", "continue a run from its checkpoint");
+    resume->add_option("CHECKPOINT", checkpoint, "checkpoint file (run directory/checkpoint.h5)")
+        ->required();
+    add_run_flags(resume);
+    resume->add_flag("--accept-timeseries-gap", run_options.accept_timeseries_gap,
+                     "continue a timeseries.csv that lost rows the checkpoint covers (deleted, "
+                     "emptied or truncated), leaving the gap");
+  }
 
-  std::string snapshot;
-  FragmentOptions fragment_options;
-  double threshold = 0.0;
-  std::string method, prefix;
-  CLI::App* fragments = app.add_subcommand("fragments", "find fragments in a snapshot");
-  fragments->add_option("SNAPSHOT", snapshot, "snapshot file (HDF5)")->required();
-  auto* threshold_opt =
-      fragments->add_option("--threshold", threshold, "damage at which a point has failed");
-  auto* method_opt = fragments->add_option("--method", method, "grid_density | friends_of_friends");
-  auto* prefix_opt = fragments->add_option("--prefix", prefix, "output files PREFIX.csv/.h5/.ss");
-  double smoothing_factor = 0.0, static_strength = 0.0;
-  auto* smoothing_opt = fragments->add_option(
-      "--smoothing-factor", smoothing_factor,
-      "friends_of_friends: friends within one SPH smoothing length h = F (m/rho)^(1/3) (BA95)");
-  auto* static_opt = fragments->add_option(
-      "--static-strength", static_strength,
-      "friends_of_friends: undamaged points at this principal tension (Pa) count as failed");
-  fragments->add_flag("--ss-particles", fragment_options.ss_particles,
-                      "also PREFIX_particles.ss: every point, for reaccumulation");
-  fragments->add_flag("--quiet", quiet, "only warnings and errors");
+  void add_fragments() {
+    fragments = app.add_subcommand("fragments", "find fragments in a snapshot");
+    fragments->add_option("SNAPSHOT", snapshot, "snapshot file (HDF5)")->required();
+    fragments->add_option("--threshold", fragment_options.threshold,
+                          "damage at which a point has failed");
+    fragments->add_option("--method", fragment_options.method, "grid_density | friends_of_friends");
+    fragments->add_option("--prefix", fragment_options.prefix, "output files PREFIX.csv/.h5/.ss");
+    fragments->add_option(
+        "--smoothing-factor", fragment_options.smoothing_factor,
+        "friends_of_friends: friends within one SPH smoothing length h = F (m/rho)^(1/3) (BA95)");
+    fragments->add_option(
+        "--static-strength", fragment_options.static_strength,
+        "friends_of_friends: undamaged points at this principal tension (Pa) count as failed");
+    fragments->add_flag("--ss-particles", fragment_options.ss_particles,
+                        "also PREFIX_particles.ss: every point, for reaccumulation");
+    fragments->add_flag("--quiet", quiet, "only warnings and errors");
+  }
 
-  MaterialOptions material_options;
-  std::string material_out, material_catalogue;
-  double up_max = 0.0, ref_rho = 0.0, ref_energy = 0.0;
-  CLI::App* material = app.add_subcommand(
-      "material", "probe a catalogue material: EOS states at (rho, E) and its principal Hugoniot");
-  material->add_option("NAME", material_options.name, "catalogue material (see --list)");
-  material->add_flag("--list", material_options.list, "list the catalogue materials and sources");
-  material->add_option("--rho", material_options.rho, "densities, kg/m^3: R1,R2,...");
-  material->add_option("--energy", material_options.energy, "specific energies, J/kg: E1,E2,...");
-  material->add_option("--rho-sweep", material_options.rho_sweep, "densities MIN:MAX:N");
-  material->add_option("--energy-sweep", material_options.energy_sweep, "energies MIN:MAX:N");
-  auto* up_max_opt = material->add_option("--hugoniot", up_max,
-                                          "principal Hugoniot for particle speeds 0..UP_MAX m/s");
-  material->add_option("--points", material_options.points, "rows of --hugoniot (default 11)");
-  material->add_option("--up", material_options.up, "Hugoniot at these particle speeds, m/s");
-  auto* ref_rho_opt =
-      material->add_option("--ref-rho", ref_rho, "Hugoniot reference density (default rho0)");
-  auto* ref_energy_opt =
-      material->add_option("--ref-energy", ref_energy, "Hugoniot reference energy (default 0)");
-  material->add_option("--param", material_options.params, "override a parameter: KEY=VALUE")
-      ->take_all();
-  material->add_flag("--csv", material_options.csv, "CSV (units in the header) instead of a table");
-  auto* material_out_opt =
-      material->add_option("--out", material_out, "write to this file instead of stdout");
-  auto* material_catalogue_opt =
-      material->add_option("--catalogue", material_catalogue, "catalogue file (TOML)");
-  material->add_flag("--quiet", quiet, "only warnings and errors");
+  void add_material() {
+    auto& o = material_options;
+    material = app.add_subcommand(
+        "material",
+        "probe a catalogue material: EOS states at (rho, E) and its principal Hugoniot");
+    material->add_option("NAME", o.name, "catalogue material (see --list)");
+    material->add_flag("--list", o.list, "list the catalogue materials and sources");
+    material->add_option("--rho", o.rho, "densities, kg/m^3: R1,R2,...");
+    material->add_option("--energy", o.energy, "specific energies, J/kg: E1,E2,...");
+    material->add_option("--rho-sweep", o.rho_sweep, "densities MIN:MAX:N");
+    material->add_option("--energy-sweep", o.energy_sweep, "energies MIN:MAX:N");
+    material->add_option("--hugoniot", o.up_max,
+                         "principal Hugoniot for particle speeds 0..UP_MAX m/s");
+    material->add_option("--points", o.points, "rows of --hugoniot (default 11)");
+    material->add_option("--up", o.up, "Hugoniot at these particle speeds, m/s");
+    material->add_option("--ref-rho", o.ref_rho, "Hugoniot reference density (default rho0)");
+    material->add_option("--ref-energy", o.ref_energy, "Hugoniot reference energy (default 0)");
+    material->add_option("--param", o.params, "override a parameter: KEY=VALUE")->take_all();
+    material->add_flag("--csv", o.csv, "CSV (units in the header) instead of a table");
+    material->add_option("--out", o.out, "write to this file instead of stdout");
+    material->add_option("--catalogue", o.catalogue, "catalogue file (TOML)");
+    material->add_flag("--quiet", quiet, "only warnings and errors");
+  }
 
   // A misspelt command gets the nearest one (CLI11 would only say that one is required).
-  if (argc > 1 && argv[1][0] != '-') {
+  bool refuse_unknown_command(int argc, char** argv) {
+    if (argc <= 1 || argv[1][0] == '-') return false;
     std::vector<std::string> names;
     for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
       names.push_back(sub->get_name());
     }
-    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
-      fmt::print(stderr, "unknown command '{}'{} (commands: {}; shatter --help describes them)\n",
-                 argv[1], nearest_command(argv[1], names), fmt::join(names, ", "));
-      return kBadInput;
-    }
+    if (std::find(names.begin(), names.end(), argv[1]) != names.end()) return false;
+    fmt::print(stderr, "unknown command '{}'{} (commands: {}; shatter --help describes them)\n",
+               argv[1], nearest_command(argv[1], names), fmt::join(names, ", "));
+    return true;
   }
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? kOk : kBadInput;
-  }
-  setup_logging(quiet, log_file);
-  if (!out_dir.empty()) run_options.out = out_dir;
 
-  const auto& world = shatter::parallel::world();
-  const bool stage_list = check->parsed() && run_options.stages;
-  if (world.distributed() && !run->parsed() && !resume->parsed() && !stage_list) {
+  // Only run, resume and check --stages take part in an MPI run.
+  bool refuse_on_several_ranks() const {
+    const auto& world = shatter::parallel::world();
+    const bool stage_list = check->parsed() && run_options.stages;
+    if (!world.distributed() || run->parsed() || resume->parsed() || stage_list) return false;
     if (world.rank() == 0) {
       spdlog::error(
           "only 'run', 'resume' and 'check --stages' run on several MPI ranks; start the others "
           "alone");
     }
-    return kBadInput;
+    return true;
   }
-  try {
+
+  // Runs the parsed subcommand.
+  int dispatch() {
+    using namespace shatter::cli;
     if (run->parsed()) return run_command(scene_file, run_options);
     if (resume->parsed()) return resume_command(checkpoint, run_options);
     if (check->parsed()) return check_command(check_file, run_options);
     if (reference->parsed()) {
-      std::optional<std::filesystem::path> write;
-      if (reference_write_opt->count() > 0) write = reference_write;
-      return reference_command({reference_roots.begin(), reference_roots.end()}, write);
+      return reference_command({reference_roots.begin(), reference_roots.end()}, reference_write);
     }
-    if (fragments->parsed()) {
-      if (threshold_opt->count() > 0) fragment_options.threshold = threshold;
-      if (method_opt->count() > 0) fragment_options.method = method;
-      if (prefix_opt->count() > 0) fragment_options.prefix = prefix;
-      if (smoothing_opt->count() > 0) fragment_options.smoothing_factor = smoothing_factor;
-      if (static_opt->count() > 0) fragment_options.static_strength = static_strength;
-      return fragments_command(snapshot, fragment_options);
-    }
-    if (material->parsed()) {
-      if (up_max_opt->count() > 0) material_options.up_max = up_max;
-      if (ref_rho_opt->count() > 0) material_options.ref_rho = ref_rho;
-      if (ref_energy_opt->count() > 0) material_options.ref_energy = ref_energy;
-      if (material_out_opt->count() > 0) material_options.out = material_out;
-      if (material_catalogue_opt->count() > 0) material_options.catalogue = material_catalogue;
-      return material_command(material_options);
-    }
+    if (fragments->parsed()) return fragments_command(snapshot, fragment_options);
+    if (material->parsed()) return material_command(material_options);
+    return kOk;
+  }
+};
+
+}  // namespace
+
+int shatter_main(int argc, char** argv) {
+  using namespace shatter::cli;
+  CommandLine cli;
+  if (cli.refuse_unknown_command(argc, argv)) return kBadInput;
+  try {
+    cli.app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cli.app.exit(e) == 0 ? kOk : kBadInput;
+  }
+  setup_logging(cli.quiet, cli.log_file);
+  if (!cli.out_dir.empty()) cli.run_options.out = cli.out_dir;
+  if (cli.refuse_on_several_ranks()) return kBadInput;
+  const auto& world = shatter::parallel::world();
+  try {
+    return cli.dispatch();
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     // One rank failed alone: it reports (the log line names the rank) and ends every rank,
@@ -242,7 +267,6 @@ int shatter_main(int argc, char** argv) {
     if (world.distributed()) world.abort(kFailure);
     return kFailure;
   }
-  return kOk;
 }
 
 int main(int argc, char** argv) {

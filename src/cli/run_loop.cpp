@@ -23,6 +23,7 @@
 #include "shatter/mpm/simulation.hpp"
 #include "shatter/parallel/comm.hpp"
 #include "shatter/parallel/decomposition.hpp"
+#include "shatter/scene/build.hpp"
 
 #ifndef SHATTER_VERSION
 #define SHATTER_VERSION "unknown"
@@ -494,6 +495,26 @@ bool lock_or_refuse(const std::filesystem::path& out, bool take_over,
     spdlog::error("{}", e.what());
     if (parallel::world().distributed()) parallel::world().abort(kBadInput);
     return false;
+  }
+  return true;
+}
+
+std::unique_ptr<Solver> make_solver_or_refuse(const scene::Scene& s, ParticleStore particles,
+                                              const std::vector<MaterialPtr>& materials,
+                                              int threads, const std::filesystem::path& source) {
+  try {
+    return scene::make_solver(s, std::move(particles), materials, threads);
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("{}: {}", source.string(), e.what());
+    return nullptr;
+  }
+}
+
+bool refuse_method_on_ranks(const Solver& sim, const std::filesystem::path& source) {
+  if (!parallel::world().distributed() || sim.method() == "mpm") return false;
+  if (parallel::world().rank() == 0) {
+    spdlog::error("{}: method '{}' runs on one rank only (the MPI decomposition is MPM's)",
+                  source.string(), sim.method());
   }
   return true;
 }

@@ -45,6 +45,15 @@ std::unique_ptr<io::RunLock> lock_run_directory(const std::filesystem::path& out
 bool lock_or_refuse(const std::filesystem::path& out, bool take_over,
                     std::unique_ptr<io::RunLock>& lock);
 
+// scene::make_solver for `shatter run` and `resume`: null when the set-up refuses the scene
+// (reported, naming `source`, the scene or checkpoint file).
+std::unique_ptr<Solver> make_solver_or_refuse(const scene::Scene& s, ParticleStore particles,
+                                              const std::vector<MaterialPtr>& materials,
+                                              int threads, const std::filesystem::path& source);
+
+// True (reported by rank 0) when this is an MPI run and the solver's method runs on one rank only.
+bool refuse_method_on_ranks(const Solver& sim, const std::filesystem::path& source);
+
 // Paths inside a run directory.
 std::filesystem::path snapshot_dir(const std::filesystem::path& out);
 std::filesystem::path checkpoint_path(const std::filesystem::path& out);

@@ -43,48 +43,53 @@ std::array<double, 3> ellipsoid_axes(const Eigen::Matrix3d& inertia, double mass
   return {std::sqrt(std::max(a2, 0.0)), std::sqrt(std::max(b2, 0.0)), std::sqrt(std::max(c2, 0.0))};
 }
 
-}  // namespace
+// The particle columns the kinematics reads, visited in id order (`order`) so that the
+// catalogue is bit-identical for any storage order.
+struct Points {
+  std::span<const double> x, y, z, vx, vy, vz, mass, vol0, rho;
+  std::vector<std::uint32_t> order;
 
-FragmentCatalogue fragment_kinematics(const ParticleStore& store,
-                                      std::vector<std::int64_t>& labels) {
-  const std::size_t n = store.size();
-  if (labels.size() != n) throw std::invalid_argument("fragment kinematics: label count mismatch");
-  const auto x = store.col(Field::x), y = store.col(Field::y), z = store.col(Field::z);
-  const auto vx = store.col(Field::vx), vy = store.col(Field::vy), vz = store.col(Field::vz);
-  const auto mass = store.col(Field::mass);
-  const auto vol0 = store.col(Field::volume0);
-  const bool has_rho = store.has(Field::rho);
-  const auto rho = has_rho ? store.col(Field::rho) : std::span<const double>{};
-  // Sums run in id order so that the catalogue is bit-identical for any storage order.
-  const auto order = fracture::canonical_order(
-      store.has(IField::id) ? store.col(IField::id) : std::span<const std::int64_t>{}, n);
+  explicit Points(const ParticleStore& store)
+      : x(store.col(Field::x)),
+        y(store.col(Field::y)),
+        z(store.col(Field::z)),
+        vx(store.col(Field::vx)),
+        vy(store.col(Field::vy)),
+        vz(store.col(Field::vz)),
+        mass(store.col(Field::mass)),
+        vol0(store.col(Field::volume0)),
+        rho(store.has(Field::rho) ? store.col(Field::rho) : std::span<const double>{}),
+        order(fracture::canonical_order(
+            store.has(IField::id) ? store.col(IField::id) : std::span<const std::int64_t>{},
+            store.size())) {}
 
-  std::int64_t count = 0;
-  for (std::int64_t l : labels) count = std::max(count, l + 1);
-  const auto nf = static_cast<std::size_t>(count);
-  std::vector<Fragment> frags(nf);
-  std::vector<Eigen::Matrix3d> self_inertia(nf, Eigen::Matrix3d::Zero());
-  std::vector<std::size_t> first_seen(nf, n);
-  FragmentCatalogue cat;
-  const auto volume_of = [&](std::size_t p) {
-    return has_rho && rho[p] > 0.0 ? mass[p] / rho[p] : vol0[p];
-  };
-  // Pass 1: m_f, m_f x_fc and P_f (Eq. 20).
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t p = order[k];
-    cat.total_mass += mass[p];
+  double volume(std::size_t p) const {
+    return !rho.empty() && rho[p] > 0.0 ? mass[p] / rho[p] : vol0[p];
+  }
+  Eigen::Vector3d position(std::size_t p) const { return {x[p], y[p], z[p]}; }
+  Eigen::Vector3d velocity(std::size_t p) const { return {vx[p], vy[p], vz[p]}; }
+};
+
+// Pass 1: m_f, m_f x_fc and P_f (Eq. 20), then x_fc and v_f; the catalogue's total and dust
+// masses; and each fragment's first point in id order (`first_seen`, for canonical ranks).
+void sum_mass_and_momentum(const Points& pts, const std::vector<std::int64_t>& labels,
+                           std::vector<Fragment>& frags, std::vector<std::size_t>& first_seen,
+                           FragmentCatalogue& cat) {
+  for (std::size_t k = 0; k < pts.order.size(); ++k) {
+    const std::size_t p = pts.order[k];
+    cat.total_mass += pts.mass[p];
     if (labels[p] < 0) {
-      cat.dust_mass += mass[p];
+      cat.dust_mass += pts.mass[p];
       continue;
     }
-    Fragment& f = frags[static_cast<std::size_t>(labels[p])];
-    first_seen[static_cast<std::size_t>(labels[p])] =
-        std::min(first_seen[static_cast<std::size_t>(labels[p])], k);
+    const auto l = static_cast<std::size_t>(labels[p]);
+    Fragment& f = frags[l];
+    first_seen[l] = std::min(first_seen[l], k);
     f.particles += 1;
-    f.mass += mass[p];
-    f.centre += mass[p] * Eigen::Vector3d(x[p], y[p], z[p]);
-    f.momentum += mass[p] * Eigen::Vector3d(vx[p], vy[p], vz[p]);
-    f.volume += volume_of(p);
+    f.mass += pts.mass[p];
+    f.centre += pts.mass[p] * pts.position(p);
+    f.momentum += pts.mass[p] * pts.velocity(p);
+    f.volume += pts.volume(p);
   }
   for (auto& f : frags) {
     if (f.mass > 0.0) {
@@ -92,29 +97,41 @@ FragmentCatalogue fragment_kinematics(const ParticleStore& store,
       f.velocity = f.momentum / f.mass;
     }
   }
-  // Pass 2: L_fc = sum x_p x m_p v_p - x_fc x P_f, summed as sum m_p r x u with r, u relative to
-  // the centre of mass (the same quantity, without the cancellation of two large terms), and J_c.
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t p = order[k];
+}
+
+// Pass 2: L_fc = sum x_p x m_p v_p - x_fc x P_f, summed as sum m_p r x u with r, u relative to
+// the centre of mass (the same quantity, without the cancellation of two large terms), and J_c;
+// then omega (Eq. 20) and the equivalent ellipsoid.
+void sum_spin_and_shape(const Points& pts, const std::vector<std::int64_t>& labels,
+                        std::vector<Fragment>& frags) {
+  std::vector<Eigen::Matrix3d> self_inertia(frags.size(), Eigen::Matrix3d::Zero());
+  for (const std::size_t p : pts.order) {
     if (labels[p] < 0) continue;
     const auto l = static_cast<std::size_t>(labels[p]);
     Fragment& f = frags[l];
-    const Eigen::Vector3d r = Eigen::Vector3d(x[p], y[p], z[p]) - f.centre;
-    const Eigen::Vector3d u = Eigen::Vector3d(vx[p], vy[p], vz[p]) - f.velocity;
-    f.angular_momentum += mass[p] * r.cross(u);
-    f.inertia += mass[p] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+    const double m = pts.mass[p];
+    const Eigen::Vector3d r = pts.position(p) - f.centre;
+    const Eigen::Vector3d u = pts.velocity(p) - f.velocity;
+    f.angular_momentum += m * r.cross(u);
+    f.inertia += m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
     // A point stands for a cube of its volume (side s, own moment m s^2 / 6); used for the
     // shape only, since particles carry no spin of their own.
-    const double s = std::cbrt(volume_of(p));
-    self_inertia[l] += (mass[p] * s * s / 6.0) * Eigen::Matrix3d::Identity();
+    const double s = std::cbrt(pts.volume(p));
+    self_inertia[l] += (m * s * s / 6.0) * Eigen::Matrix3d::Identity();
   }
-  for (std::size_t l = 0; l < nf; ++l) {
+  for (std::size_t l = 0; l < frags.size(); ++l) {
     Fragment& f = frags[l];
     if (f.particles == 0) continue;
     f.omega = solve_spin(f.inertia, f.angular_momentum);
     f.axes = ellipsoid_axes(f.inertia + self_inertia[l], f.mass);
   }
-  // Largest first; equal masses by the first particle in id order, so ranks are canonical.
+}
+
+// The fragments into the catalogue, largest first (equal masses by the first particle in id
+// order, so ranks are canonical), and the labels renumbered to those ranks.
+void rank_fragments(const std::vector<Fragment>& frags, const std::vector<std::size_t>& first_seen,
+                    std::vector<std::int64_t>& labels, FragmentCatalogue& cat) {
+  const std::size_t nf = frags.size();
   std::vector<std::size_t> rank(nf);
   std::iota(rank.begin(), rank.end(), std::size_t{0});
   std::sort(rank.begin(), rank.end(), [&](std::size_t a, std::size_t b) {
@@ -130,6 +147,24 @@ FragmentCatalogue fragment_kinematics(const ParticleStore& store,
   }
   for (auto& l : labels)
     if (l >= 0) l = new_id[static_cast<std::size_t>(l)];
+}
+
+}  // namespace
+
+FragmentCatalogue fragment_kinematics(const ParticleStore& store,
+                                      std::vector<std::int64_t>& labels) {
+  const std::size_t n = store.size();
+  if (labels.size() != n) throw std::invalid_argument("fragment kinematics: label count mismatch");
+  const Points pts(store);
+  std::int64_t count = 0;
+  for (std::int64_t l : labels) count = std::max(count, l + 1);
+  const auto nf = static_cast<std::size_t>(count);
+  std::vector<Fragment> frags(nf);
+  std::vector<std::size_t> first_seen(nf, n);
+  FragmentCatalogue cat;
+  sum_mass_and_momentum(pts, labels, frags, first_seen, cat);
+  sum_spin_and_shape(pts, labels, frags);
+  rank_fragments(frags, first_seen, labels, cat);
   return cat;
 }
 

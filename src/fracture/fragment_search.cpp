@@ -131,76 +131,47 @@ void attach(const Cloud& cloud, const std::vector<std::uint8_t>& eligible,
   }
 }
 
-}  // namespace
-
-std::vector<std::int64_t> label_fragments(const ParticleStore& store,
-                                          const FragmentSearchSpec& spec) {
-  if (spec.method != "grid_density" && spec.method != "friends_of_friends")
-    throw std::invalid_argument("fragment search: unknown method '" + spec.method +
-                                "' (known: grid_density, friends_of_friends)");
-  const std::size_t n = store.size();
-  std::vector<std::int64_t> labels(n, kNone);
-  if (n == 0) return labels;
-  if (!store.has(Field::volume0))
-    throw std::logic_error("fragment search: the particle store has no volume0 column");
-
-  const auto xs = store.col(Field::x), ys = store.col(Field::y), zs = store.col(Field::z);
-  const auto vol0 = store.col(Field::volume0);
-  const auto canonical = fracture::canonical_order(
-      store.has(IField::id) ? store.col(IField::id) : std::span<const std::int64_t>{}, n);
-  double total_volume = 0.0;
-  for (std::uint32_t p : canonical) total_volume += vol0[p];
-  const double spacing = std::cbrt(total_volume / static_cast<double>(n));
-  double h = spec.cell_size > 0.0 ? spec.cell_size : 2.0 * spacing;
-  const double link = spec.linking_length > 0.0 ? spec.linking_length : 1.5 * spacing;
-  if (!(h > 0.0)) throw std::invalid_argument("fragment search: particle volumes are zero");
-  // BA95 Sec. 4.4: friends within one SPH smoothing length, h = factor (m / rho)^{1/3}.
-  const bool by_smoothing_length =
-      spec.method == "friends_of_friends" && spec.smoothing_factor > 0.0;
-  std::vector<double> smoothing;
-  if (by_smoothing_length) {
-    if (!store.has(Field::mass) || !store.has(Field::rho)) {
-      throw std::logic_error(
-          "fragment search: linking by smoothing length needs the mass and rho columns");
-    }
-    const auto m = store.col(Field::mass), rho = store.col(Field::rho);
-    smoothing.resize(n);
-    double h_max = 0.0;
-    for (std::size_t p = 0; p < n; ++p) {
-      smoothing[p] = spec.smoothing_factor * std::cbrt(m[p] / rho[p]);
-      if (!(smoothing[p] > 0.0) || !std::isfinite(smoothing[p])) {
-        throw std::invalid_argument("fragment search: particle " + std::to_string(p) +
-                                    " has no finite positive smoothing length (mass / rho)");
-      }
-      h_max = std::max(h_max, smoothing[p]);
-    }
-    h = std::max(h, h_max);  // friends are within max h: the 27 cells around a point hold them
-  } else if (link > h) {
-    throw std::invalid_argument("fragment search: linking_length exceeds cell_size");
+// BA95 Sec. 4.4: friends within one SPH smoothing length, h = factor (m / rho)^{1/3}, per point
+// in storage order; `h_max` is the largest.
+std::vector<double> smoothing_lengths(const ParticleStore& store, double factor, double& h_max) {
+  if (!store.has(Field::mass) || !store.has(Field::rho)) {
+    throw std::logic_error(
+        "fragment search: linking by smoothing length needs the mass and rho columns");
   }
-
-  // Origin half a spacing below the lowest point: a lattice starting at the bounding-box corner
-  // then fills whole cells with 2x2x2 points when h = 2 x spacing (the paper's set-up).
-  double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                  std::numeric_limits<double>::infinity()};
+  const std::size_t n = store.size();
+  const auto m = store.col(Field::mass), rho = store.col(Field::rho);
+  std::vector<double> smoothing(n);
+  h_max = 0.0;
   for (std::size_t p = 0; p < n; ++p) {
+    smoothing[p] = factor * std::cbrt(m[p] / rho[p]);
+    if (!(smoothing[p] > 0.0) || !std::isfinite(smoothing[p])) {
+      throw std::invalid_argument("fragment search: particle " + std::to_string(p) +
+                                  " has no finite positive smoothing length (mass / rho)");
+    }
+    h_max = std::max(h_max, smoothing[p]);
+  }
+  return smoothing;
+}
+
+// Origin half a spacing below the lowest point: a lattice starting at the bounding-box corner
+// then fills whole cells with 2x2x2 points when h = 2 x spacing (the paper's set-up).
+void grid_origin(const ParticleStore& store, double spacing, double lo[3]) {
+  const auto xs = store.col(Field::x), ys = store.col(Field::y), zs = store.col(Field::z);
+  for (int a = 0; a < 3; ++a) lo[a] = std::numeric_limits<double>::infinity();
+  for (std::size_t p = 0; p < store.size(); ++p) {
     lo[0] = std::min(lo[0], xs[p]);
     lo[1] = std::min(lo[1], ys[p]);
     lo[2] = std::min(lo[2], zs[p]);
   }
-  for (double& l : lo) l -= 0.5 * spacing;
-  const CellGrid grid(xs, ys, zs, canonical, lo, h);
-  const auto order = grid.order();
+  for (int a = 0; a < 3; ++a) lo[a] -= 0.5 * spacing;
+}
 
-  Cloud cloud;
-  cloud.grid = &grid;
-  cloud.link2 = link * link;
-  cloud.x.resize(n);
-  cloud.y.resize(n);
-  cloud.z.resize(n);
-  cloud.vol.resize(n);
-  if (by_smoothing_length) cloud.h.resize(n);
-  cloud.failed.assign(n, 0);
+// Per point in storage order: failed by damage, or (BA95 Sec. 4.4, with static_strength > 0) by
+// a largest principal tension above the static strength, at which it would still break at the
+// low strain rates after the simulation ends.
+std::vector<std::uint8_t> failed_points(const ParticleStore& store,
+                                        const FragmentSearchSpec& spec) {
+  const std::size_t n = store.size();
   const bool has_damage = store.has(Field::damage);
   const bool pre_pass = spec.method == "friends_of_friends" && spec.static_strength > 0.0;
   const auto damage = has_damage ? store.col(Field::damage) : std::span<const double>{};
@@ -209,24 +180,53 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
     const Field f[6] = {Field::sxx, Field::syy, Field::szz, Field::sxy, Field::syz, Field::sxz};
     for (int c = 0; c < 6; ++c) stress[c] = store.col(f[c]);
   }
+  std::vector<std::uint8_t> failed(n, 0);
+  for (std::size_t p = 0; p < n; ++p) {
+    bool f = has_damage && damage[p] >= spec.damage_threshold;
+    if (pre_pass && !f) {
+      const double s[6] = {stress[0][p], stress[1][p], stress[2][p],
+                           stress[3][p], stress[4][p], stress[5][p]};
+      f = damage::largest_principal(s) >= spec.static_strength;
+    }
+    failed[p] = f ? 1 : 0;
+  }
+  return failed;
+}
+
+// The points gathered in the grid's cell-sorted order.
+Cloud gather_cloud(const ParticleStore& store, const CellGrid& grid, double link,
+                   const std::vector<double>& smoothing, const std::vector<std::uint8_t>& failed) {
+  const std::size_t n = store.size();
+  const auto xs = store.col(Field::x), ys = store.col(Field::y), zs = store.col(Field::z);
+  const auto vol0 = store.col(Field::volume0);
+  const auto order = grid.order();
+  Cloud cloud;
+  cloud.grid = &grid;
+  cloud.link2 = link * link;
+  cloud.x.resize(n);
+  cloud.y.resize(n);
+  cloud.z.resize(n);
+  cloud.vol.resize(n);
+  if (!smoothing.empty()) cloud.h.resize(n);
+  cloud.failed.assign(n, 0);
   for (std::size_t k = 0; k < n; ++k) {
     const std::uint32_t p = order[k];
     cloud.x[k] = xs[p];
     cloud.y[k] = ys[p];
     cloud.z[k] = zs[p];
     cloud.vol[k] = vol0[p];
-    if (by_smoothing_length) cloud.h[k] = smoothing[p];
-    bool failed = has_damage && damage[p] >= spec.damage_threshold;
-    if (pre_pass && !failed) {
-      // BA95 Sec. 4.4: a particle whose largest principal tension exceeds the static strength
-      // would still break at the low strain rates after the simulation ends.
-      const double s[6] = {stress[0][p], stress[1][p], stress[2][p],
-                           stress[3][p], stress[4][p], stress[5][p]};
-      failed = damage::largest_principal(s) >= spec.static_strength;
-    }
-    cloud.failed[k] = failed ? 1 : 0;
+    if (!smoothing.empty()) cloud.h[k] = smoothing[p];
+    cloud.failed[k] = failed[p];
   }
+  return cloud;
+}
 
+// The fragments of the cloud (labels in cell-sorted order): the MPM paper's grid-density
+// clustering (Sec. 4.1.2) or friends-of-friends of the unfailed points, then the failed boundary
+// layer one point thick (both methods). `h` is the grid's cell size.
+std::vector<std::int64_t> cluster(const Cloud& cloud, const CellGrid& grid,
+                                  const FragmentSearchSpec& spec, double h) {
+  const std::size_t n = cloud.x.size();
   std::vector<std::uint8_t> unfailed(n), failed_flag(n);
   for (std::size_t k = 0; k < n; ++k) {
     unfailed[k] = cloud.failed[k] ? 0 : 1;
@@ -254,9 +254,48 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
   } else {
     grow_components(cloud, unfailed, sorted_label);
   }
-  // The failed boundary layer, one point thick (both methods).
   attach(cloud, failed_flag, sorted_label, 1);
+  return sorted_label;
+}
 
+}  // namespace
+
+std::vector<std::int64_t> label_fragments(const ParticleStore& store,
+                                          const FragmentSearchSpec& spec) {
+  if (spec.method != "grid_density" && spec.method != "friends_of_friends")
+    throw std::invalid_argument("fragment search: unknown method '" + spec.method +
+                                "' (known: grid_density, friends_of_friends)");
+  const std::size_t n = store.size();
+  std::vector<std::int64_t> labels(n, kNone);
+  if (n == 0) return labels;
+  if (!store.has(Field::volume0))
+    throw std::logic_error("fragment search: the particle store has no volume0 column");
+
+  const auto vol0 = store.col(Field::volume0);
+  const auto canonical = fracture::canonical_order(
+      store.has(IField::id) ? store.col(IField::id) : std::span<const std::int64_t>{}, n);
+  double total_volume = 0.0;
+  for (std::uint32_t p : canonical) total_volume += vol0[p];
+  const double spacing = std::cbrt(total_volume / static_cast<double>(n));
+  double h = spec.cell_size > 0.0 ? spec.cell_size : 2.0 * spacing;
+  const double link = spec.linking_length > 0.0 ? spec.linking_length : 1.5 * spacing;
+  if (!(h > 0.0)) throw std::invalid_argument("fragment search: particle volumes are zero");
+  std::vector<double> smoothing;
+  if (spec.method == "friends_of_friends" && spec.smoothing_factor > 0.0) {
+    double h_max = 0.0;
+    smoothing = smoothing_lengths(store, spec.smoothing_factor, h_max);
+    h = std::max(h, h_max);  // friends are within max h: the 27 cells around a point hold them
+  } else if (link > h) {
+    throw std::invalid_argument("fragment search: linking_length exceeds cell_size");
+  }
+
+  double lo[3];
+  grid_origin(store, spacing, lo);
+  const CellGrid grid(store.col(Field::x), store.col(Field::y), store.col(Field::z), canonical, lo,
+                      h);
+  const Cloud cloud = gather_cloud(store, grid, link, smoothing, failed_points(store, spec));
+  const std::vector<std::int64_t> sorted_label = cluster(cloud, grid, spec, h);
+  const auto order = grid.order();
   for (std::size_t k = 0; k < n; ++k) labels[order[k]] = sorted_label[k];
   return labels;
 }

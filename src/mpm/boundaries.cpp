@@ -44,48 +44,30 @@ MirrorArrays mirror_arrays(SparseGrid& grid, Boundaries::MirrorMode mode) {
 template <class Pass>
 void for_ghosts(const SparseGrid& grid, const Boundaries::Plane& pl, const MirrorArrays& a,
                 Pass&& pass) {
-  constexpr int B = SparseGrid::kBlock;
-  const bool fixed = pl.kind == BoundaryKind::fixed;
-  for (std::uint32_t b = 0; b < grid.blocks(); ++b) {
-    if (grid.meets(b)) continue;  // its field lives in the body copies
-    const SparseGrid::Coord c = grid.coord(b);
-    const std::int64_t bc[3] = {c.x, c.y, c.z};
-    const std::int64_t lo = bc[pl.axis] * B;
-    if (lo + B - 1 < pl.index - 3 || lo > pl.index + 3) continue;
-    for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
-      const int loc[3] = {l / (B * B), (l / B) % B, l % B};
-      std::int64_t g[3];
-      for (int d = 0; d < 3; ++d) g[d] = bc[d] * B + loc[d];
-      const std::int64_t i = g[pl.axis];
-      const bool ghost = pl.side < 0 ? i < pl.index : i > pl.index;
-      const std::size_t node =
-          std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
-      if (i == pl.index && !fixed) {
+  const auto node = [](std::size_t b, int l) {
+    return b * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
+  };
+  walk_ghosts(
+      pl, grid.blocks(), [&](std::size_t b) { return grid.coord(static_cast<std::uint32_t>(b)); },
+      // a block where bodies meet: its field lives in the body copies
+      [&](std::size_t b) { return grid.meets(static_cast<std::uint32_t>(b)); },
+      // the partner in the same velocity field (the same body's copy where bodies meet)
+      [&](std::size_t b, std::uint64_t key) {
+        return grid.find_like(static_cast<std::uint32_t>(b), key);
+      },
+      [&](std::size_t b, int l) {
         // On the plane the mirror cancels the normal component.
-        a.mom[pl.axis][node] = 0.0;
-        if (a.force_too) a.force[pl.axis][node] = 0.0;
-        if (a.grads && node >= a.g0) a.grad[pl.axis][node - a.g0] = 0.0;
-        continue;
-      }
-      if (!ghost || std::abs(i - pl.index) > 3) continue;
-      std::int64_t q[3] = {g[0], g[1], g[2]};
-      q[pl.axis] = 2 * pl.index - i;
-      // The partner in the same velocity field (the same body's copy where bodies meet).
-      const std::int64_t pb = grid.find_like(b, SparseGrid::key(q[0] >> 2, q[1] >> 2, q[2] >> 2));
-      if (pb < 0) {
-        if (fixed) {
-          a.mom[0][node] = a.mom[1][node] = a.mom[2][node] = 0.0;
-          if (a.force_too) a.force[0][node] = a.force[1][node] = a.force[2][node] = 0.0;
-        }
-        continue;
-      }
-      const std::size_t partner =
-          static_cast<std::size_t>(pb) * SparseGrid::kBlockNodes +
-          static_cast<std::size_t>(SparseGrid::local(
-              static_cast<int>(q[0] & 3), static_cast<int>(q[1] & 3), static_cast<int>(q[2] & 3)));
-      pass(node, partner);
-    }
-  }
+        const std::size_t i = node(b, l);
+        a.mom[pl.axis][i] = 0.0;
+        if (a.force_too) a.force[pl.axis][i] = 0.0;
+        if (a.grads && i >= a.g0) a.grad[pl.axis][i - a.g0] = 0.0;
+      },
+      [&](std::size_t b, int l) {
+        const std::size_t i = node(b, l);
+        a.mom[0][i] = a.mom[1][i] = a.mom[2][i] = 0.0;
+        if (a.force_too) a.force[0][i] = a.force[1][i] = a.force[2][i] = 0.0;
+      },
+      [&](std::size_t b, int l, std::size_t pb, int pl_) { pass(node(b, l), node(pb, pl_)); });
 }
 
 }  // namespace
@@ -198,12 +180,16 @@ void Boundaries::mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const
   }
 }
 
-double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass,
-                             const std::vector<std::uint8_t>* counted,
-                             parallel::ExactSum* exact) const {
-  auto& N = grid.nodes();
-  const bool constrained = count_ > 0;
-  parallel::ExactSum total = tbb::parallel_reduce(
+namespace {
+
+// The block-parallel pass integrate() and velocities() share: visit(i, c, l, count, removed) at
+// every node (i its index, c its block's coordinates, l its local index, count whether its block
+// is counted), each adding the energy it removes to `removed`, an exact sum (parallel::ExactSum),
+// so that the total does not depend on the block order.
+template <class Visit>
+parallel::ExactSum sum_over_nodes(const SparseGrid& grid, const std::vector<std::uint8_t>* counted,
+                                  Visit&& visit) {
+  return tbb::parallel_reduce(
       tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(grid.blocks()), 16),
       parallel::ExactSum{},
       [&](const tbb::blocked_range<std::uint32_t>& r, parallel::ExactSum removed) {
@@ -213,34 +199,7 @@ double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt, d
           for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
             const std::size_t i =
                 std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
-            const double M = N.mass[i];
-            if (M <= empty_mass) {
-              N.px[i] = N.py[i] = N.pz[i] = N.fx[i] = N.fy[i] = N.fz[i] = 0.0;
-              continue;
-            }
-            double fx = N.fx[i] + M * gravity.x();  // Eq. 30, body force
-            double fy = N.fy[i] + M * gravity.y();
-            double fz = N.fz[i] + M * gravity.z();
-            double px = N.px[i], py = N.py[i], pz = N.pz[i];
-            if (constrained) {
-              const std::int64_t g[3] = {std::int64_t{c.x} * 4 + l / 16,
-                                         std::int64_t{c.y} * 4 + (l / 4) % 4,
-                                         std::int64_t{c.z} * 4 + l % 4};
-              const double before = px * px + py * py + pz * pz;
-              constrain(g, px, py, pz);  // step 2
-              constrain(g, fx, fy, fz);  // step 3
-              if (count) removed.add(0.5 * (before - (px * px + py * py + pz * pz)) / M);
-            }
-            px += fx * dt;  // step 4, Eq. 27
-            py += fy * dt;
-            pz += fz * dt;
-            const double inv_m = 1.0 / M;
-            N.fx[i] = fx * inv_m;
-            N.fy[i] = fy * inv_m;
-            N.fz[i] = fz * inv_m;
-            N.px[i] = px * inv_m;
-            N.py[i] = py * inv_m;
-            N.pz[i] = pz * inv_m;
+            visit(i, c, l, count, removed);
           }
         }
         return removed;
@@ -249,6 +208,59 @@ double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt, d
         a.add(b);
         return a;
       });
+}
+
+// Global index of node l of the block at c.
+void global_node(const SparseGrid::Coord& c, int l, std::int64_t g[3]) {
+  g[0] = std::int64_t{c.x} * 4 + l / 16;
+  g[1] = std::int64_t{c.y} * 4 + (l / 4) % 4;
+  g[2] = std::int64_t{c.z} * 4 + l % 4;
+}
+
+// The kinetic energy a constraint removes from momentum p of nodal mass M (before minus after).
+double removed_energy(double before, double px, double py, double pz, double M) {
+  return 0.5 * (before - (px * px + py * py + pz * pz)) / M;
+}
+
+}  // namespace
+
+double Boundaries::integrate(SparseGrid& grid, const Vec3& gravity, double dt, double empty_mass,
+                             const std::vector<std::uint8_t>* counted,
+                             parallel::ExactSum* exact) const {
+  auto& N = grid.nodes();
+  const bool constrained = count_ > 0;
+  parallel::ExactSum total =
+      sum_over_nodes(grid, counted,
+                     [&](std::size_t i, const SparseGrid::Coord& c, int l, bool count,
+                         parallel::ExactSum& removed) {
+                       const double M = N.mass[i];
+                       if (M <= empty_mass) {
+                         N.px[i] = N.py[i] = N.pz[i] = N.fx[i] = N.fy[i] = N.fz[i] = 0.0;
+                         return;
+                       }
+                       double fx = N.fx[i] + M * gravity.x();  // Eq. 30, body force
+                       double fy = N.fy[i] + M * gravity.y();
+                       double fz = N.fz[i] + M * gravity.z();
+                       double px = N.px[i], py = N.py[i], pz = N.pz[i];
+                       if (constrained) {
+                         std::int64_t g[3];
+                         global_node(c, l, g);
+                         const double before = px * px + py * py + pz * pz;
+                         constrain(g, px, py, pz);  // step 2
+                         constrain(g, fx, fy, fz);  // step 3
+                         if (count) removed.add(removed_energy(before, px, py, pz, M));
+                       }
+                       px += fx * dt;  // step 4, Eq. 27
+                       py += fy * dt;
+                       pz += fz * dt;
+                       const double inv_m = 1.0 / M;
+                       N.fx[i] = fx * inv_m;
+                       N.fy[i] = fy * inv_m;
+                       N.fz[i] = fz * inv_m;
+                       N.px[i] = px * inv_m;
+                       N.py[i] = py * inv_m;
+                       N.pz[i] = pz * inv_m;
+                     });
   if (exact != nullptr) *exact = total;
   return total.value();
 }
@@ -257,42 +269,27 @@ double Boundaries::velocities(SparseGrid& grid, double empty_mass,
                               const std::vector<std::uint8_t>* counted) const {
   auto& N = grid.nodes();
   const bool constrained = count_ > 0;
-  return tbb::parallel_reduce(
-             tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(grid.blocks()), 16),
-             parallel::ExactSum{},
-             [&](const tbb::blocked_range<std::uint32_t>& r, parallel::ExactSum removed) {
-               for (std::uint32_t b = r.begin(); b < r.end(); ++b) {
-                 const bool count = counted == nullptr || (*counted)[b] != 0;
-                 const SparseGrid::Coord c = grid.coord(b);
-                 for (int l = 0; l < SparseGrid::kBlockNodes; ++l) {
-                   const std::size_t i =
-                       std::size_t{b} * SparseGrid::kBlockNodes + static_cast<std::size_t>(l);
-                   const double M = N.mass[i];
-                   if (M <= empty_mass) {
-                     N.px[i] = N.py[i] = N.pz[i] = 0.0;
-                     continue;
-                   }
-                   double px = N.px[i], py = N.py[i], pz = N.pz[i];
-                   if (constrained) {
-                     const std::int64_t g[3] = {std::int64_t{c.x} * 4 + l / 16,
-                                                std::int64_t{c.y} * 4 + (l / 4) % 4,
-                                                std::int64_t{c.z} * 4 + l % 4};
-                     const double before = px * px + py * py + pz * pz;
-                     constrain(g, px, py, pz);
-                     if (count) removed.add(0.5 * (before - (px * px + py * py + pz * pz)) / M);
-                   }
-                   const double inv_m = 1.0 / M;
-                   N.px[i] = px * inv_m;
-                   N.py[i] = py * inv_m;
-                   N.pz[i] = pz * inv_m;
-                 }
-               }
-               return removed;
-             },
-             [](parallel::ExactSum a, const parallel::ExactSum& b) {
-               a.add(b);
-               return a;
-             })
+  return sum_over_nodes(grid, counted,
+                        [&](std::size_t i, const SparseGrid::Coord& c, int l, bool count,
+                            parallel::ExactSum& removed) {
+                          const double M = N.mass[i];
+                          if (M <= empty_mass) {
+                            N.px[i] = N.py[i] = N.pz[i] = 0.0;
+                            return;
+                          }
+                          double px = N.px[i], py = N.py[i], pz = N.pz[i];
+                          if (constrained) {
+                            std::int64_t g[3];
+                            global_node(c, l, g);
+                            const double before = px * px + py * py + pz * pz;
+                            constrain(g, px, py, pz);
+                            if (count) removed.add(removed_energy(before, px, py, pz, M));
+                          }
+                          const double inv_m = 1.0 / M;
+                          N.px[i] = px * inv_m;
+                          N.py[i] = py * inv_m;
+                          N.pz[i] = pz * inv_m;
+                        })
       .value();
 }
 

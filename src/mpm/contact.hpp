@@ -41,6 +41,10 @@ class Contact {
   double resolve(SparseGrid& grid, const Boundaries& bc, double dt, double empty_mass) const;
 
  private:
+  // resolve at node l of one meeting block: every pair of the body fields present, then the
+  // constraints again; returns the kinetic energy removed there.
+  double resolve_node(SparseGrid& grid, const SparseGrid::Meeting& mt, int l, const Boundaries& bc,
+                      double dt, double empty_mass) const;
   static std::uint64_t key(std::int64_t a, std::int64_t b) {
     const auto lo = static_cast<std::uint64_t>(a < b ? a : b);
     const auto hi = static_cast<std::uint64_t>(a < b ? b : a);

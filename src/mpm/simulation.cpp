@@ -32,19 +32,6 @@ const FieldSet kEngineFields =
     FieldSet{Field::mass,   Field::volume0,  Field::size0,     Field::rho,
              Field::energy, Field::pressure, Field::soundspeed};
 
-// A tuning value from the environment (docs/mpi.md); a value that is not a finite number is an
-// error, never silently 0.
-double env_double(const char* name, double fallback) {
-  const char* env = std::getenv(name);
-  if (env == nullptr) return fallback;
-  char* end = nullptr;
-  const double v = std::strtod(env, &end);
-  if (end == env || *end != '\0' || !std::isfinite(v)) {
-    throw std::invalid_argument(fmt::format("{}='{}' is not a number", name, env));
-  }
-  return v;
-}
-
 void check_config(const SolverConfig& c) {
   if (!(c.cell_size > 0.0) || !std::isfinite(c.cell_size)) {
     throw std::invalid_argument(fmt::format("solver: cell_size must be > 0, got {}", c.cell_size));
@@ -127,9 +114,9 @@ void setup_ranks(mpm::State& s) {
     }
   }
   s.ranks.decomp.set_planes(std::move(planes));
-  s.ranks.rebalance_every =
-      static_cast<unsigned>(std::max(1.0, env_double("SHATTER_MPI_REBALANCE_EVERY", 10.0)));
-  s.ranks.imbalance = env_double("SHATTER_MPI_IMBALANCE", 1.2);
+  // Checked by the scene ([solver.mpi]); a caller's 0 still checks every step.
+  s.ranks.rebalance_every = std::max(1U, s.config.mpi.rebalance_every);
+  s.ranks.imbalance = s.config.mpi.imbalance;
 }
 
 // One exact sum over the ranks.

@@ -5,18 +5,6 @@
 #include <tbb/parallel_for.h>
 
 namespace shatter {
-namespace {
-
-SparseGrid::Coord decode(std::uint64_t k) {
-  constexpr std::int64_t off = std::int64_t{1} << 20;
-  constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
-  return {static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 42) & mask) - off),
-          static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 21) & mask) - off),
-          static_cast<std::int32_t>(static_cast<std::int64_t>(k & mask) - off)};
-}
-
-}  // namespace
-
 std::int64_t SparseGrid::find(std::uint64_t k) const {
   const auto it = index_.find(k);
   return it == index_.end() ? -1 : static_cast<std::int64_t>(it->second);
@@ -48,30 +36,15 @@ std::size_t SparseGrid::bytes() const {
   return node_bytes + block_bytes + particle_bytes;
 }
 
-bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
-                        std::span<const std::int64_t> bodies, std::span<const std::int64_t> ids) {
-  const std::size_t n = owner_keys.size();
-  if (n == last_keys_.size() &&
-      std::equal(owner_keys.begin(), owner_keys.end(), last_keys_.begin()) &&
-      bodies.size() == last_bodies_.size() &&
-      std::equal(bodies.begin(), bodies.end(), last_bodies_.begin()) &&
-      ids.size() == last_ids_.size() && std::equal(ids.begin(), ids.end(), last_ids_.begin())) {
-    return false;
-  }
-  last_keys_.assign(owner_keys.begin(), owner_keys.end());
-  last_bodies_.assign(bodies.begin(), bodies.end());
-  last_ids_.assign(ids.begin(), ids.end());
+bool SparseGrid::same_input(std::span<const std::uint64_t> owner_keys,
+                            std::span<const std::int64_t> bodies,
+                            std::span<const std::int64_t> ids) const {
+  return std::ranges::equal(owner_keys, last_keys_) && std::ranges::equal(bodies, last_bodies_) &&
+         std::ranges::equal(ids, last_ids_);
+}
 
-  // Owner blocks: particles are mostly block-sorted, so collecting the keys where the key changes
-  // along the particle order gives a short list to sort.
-  std::vector<std::uint64_t> owners;
-  for (std::size_t p = 0; p < n; ++p) {
-    if (p == 0 || owner_keys[p] != owner_keys[p - 1]) owners.push_back(owner_keys[p]);
-  }
-  std::sort(owners.begin(), owners.end());
-  owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
-
-  // Allocated blocks: owners and the blocks their stencils spill into (+{0,1}^3).
+// Allocated blocks: owners and the blocks their stencils spill into (+{0,1}^3), in key order.
+void SparseGrid::allocate_blocks(const std::vector<std::uint64_t>& owners) {
   block_keys_.clear();
   block_keys_.reserve(owners.size() * 8);
   for (const std::uint64_t k : owners) {
@@ -91,8 +64,11 @@ bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
     coords_[b] = decode(block_keys_[b]);
     index_.emplace(block_keys_[b], static_cast<std::uint32_t>(b));
   }
+}
 
-  neighbours_.assign(nb * 8, 0);
+// The 8 blocks each owner's stencil reaches, and the owners by colour.
+void SparseGrid::link_neighbours(const std::vector<std::uint64_t>& owners) {
+  neighbours_.assign(block_keys_.size() * 8, 0);
   for (auto& c : colours_) c.clear();
   for (const std::uint64_t k : owners) {
     const std::uint32_t b = index_.at(k);
@@ -103,9 +79,15 @@ bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
     }
     colours_[(c.x & 1) | ((c.y & 1) << 1) | ((c.z & 1) << 2)].push_back(b);
   }
+}
 
-  // Particle lists per owner block: a stable counting sort keeps the particle order inside each
-  // block, which fixes the summation order at every node.
+// Particle lists per owner block: a stable counting sort keeps the particle order inside each
+// block, which fixes the summation order at every node.
+void SparseGrid::sort_particles(std::span<const std::uint64_t> owner_keys,
+                                std::span<const std::int64_t> bodies,
+                                std::span<const std::int64_t> ids) {
+  const std::size_t n = owner_keys.size();
+  const std::size_t nb = block_keys_.size();
   owner_.resize(n);
   start_.assign(nb + 1, 0);
   std::uint64_t last_key = ~std::uint64_t{0};
@@ -139,13 +121,9 @@ bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
                         }
                       });
   }
+}
 
-  shared_ = nb;
-  meetings_.clear();
-  copy_body_.clear();
-  list_of_.clear();
-  if (!bodies.empty()) assign_bodies(bodies);
-
+void SparseGrid::size_nodes() {
   const std::size_t nn = blocks() * kBlockNodes;
   for (auto* v :
        {&nodes_.mass, &nodes_.px, &nodes_.py, &nodes_.pz, &nodes_.fx, &nodes_.fy, &nodes_.fz}) {
@@ -153,32 +131,41 @@ bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
   }
   const std::size_t ng = (blocks() - shared_) * kBlockNodes;
   for (auto* v : {&nodes_.gx, &nodes_.gy, &nodes_.gz}) v->resize(ng);
+}
+
+bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
+                        std::span<const std::int64_t> bodies, std::span<const std::int64_t> ids) {
+  if (same_input(owner_keys, bodies, ids)) return false;
+  last_keys_.assign(owner_keys.begin(), owner_keys.end());
+  last_bodies_.assign(bodies.begin(), bodies.end());
+  last_ids_.assign(ids.begin(), ids.end());
+
+  // Owner blocks: particles are mostly block-sorted, so collecting the keys where the key changes
+  // along the particle order gives a short list to sort.
+  std::vector<std::uint64_t> owners;
+  for (std::size_t p = 0; p < owner_keys.size(); ++p) {
+    if (p == 0 || owner_keys[p] != owner_keys[p - 1]) owners.push_back(owner_keys[p]);
+  }
+  std::sort(owners.begin(), owners.end());
+  owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
+
+  allocate_blocks(owners);
+  link_neighbours(owners);
+  sort_particles(owner_keys, bodies, ids);
+  shared_ = block_keys_.size();
+  meetings_.clear();
+  copy_body_.clear();
+  list_of_.clear();
+  if (!bodies.empty()) assign_bodies(bodies);
+  size_nodes();
   return true;
 }
 
-void SparseGrid::assign_bodies(std::span<const std::int64_t> bodies) {
+// Blocks reached by several bodies (each owner's bodies reach its 8 neighbour blocks), each
+// numbered as a meeting (meeting_of_), with the bodies that reach it (unsorted, repeated).
+std::vector<std::vector<std::int64_t>> SparseGrid::find_meetings(
+    const std::vector<std::uint32_t>& bstart, const std::vector<std::int64_t>& blist) {
   const std::size_t nb = shared_;
-  // Bodies of each owner block's particles (sorted, distinct), CSR by owner block.
-  std::vector<std::uint32_t> bstart(nb + 1, 0);
-  std::vector<std::int64_t> blist;
-  std::vector<std::int64_t> tmp;
-  bool several = false;
-  for (std::size_t b = 0; b < nb; ++b) {
-    tmp.clear();
-    for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k) {
-      const std::int64_t body = bodies[particles_[k]];
-      if (tmp.empty() || tmp.back() != body) tmp.push_back(body);
-    }
-    std::sort(tmp.begin(), tmp.end());
-    tmp.erase(std::unique(tmp.begin(), tmp.end()), tmp.end());
-    if (!blist.empty() && !tmp.empty() && tmp.front() != blist.front()) several = true;
-    if (tmp.size() > 1) several = true;
-    blist.insert(blist.end(), tmp.begin(), tmp.end());
-    bstart[b + 1] = static_cast<std::uint32_t>(blist.size());
-  }
-  if (!several) return;  // one body: the shared grid is its field
-
-  // Blocks reached by several bodies: each owner's bodies reach its 8 neighbour blocks.
   constexpr std::int64_t kNone = -1, kSeveral = -2;
   block_body_.assign(nb, kNone);
   for (std::size_t o = 0; o < nb; ++o) {
@@ -193,7 +180,7 @@ void SparseGrid::assign_bodies(std::span<const std::int64_t> bodies) {
       }
     }
   }
-  // Their body sets, then one copy per (block, body), in block order.
+  // Their body sets.
   meeting_of_.assign(nb, -1);
   std::vector<std::vector<std::int64_t>> sets;
   for (std::size_t b = 0; b < nb; ++b) {
@@ -201,7 +188,7 @@ void SparseGrid::assign_bodies(std::span<const std::int64_t> bodies) {
     meeting_of_[b] = static_cast<std::int32_t>(sets.size());
     sets.emplace_back();
   }
-  if (sets.empty()) return;
+  if (sets.empty()) return sets;
   for (std::size_t o = 0; o < nb; ++o) {
     for (int s = 0; s < 8; ++s) {
       const std::int32_t m = meeting_of_[neighbours_[o * 8 + static_cast<std::size_t>(s)]];
@@ -210,6 +197,12 @@ void SparseGrid::assign_bodies(std::span<const std::int64_t> bodies) {
       set.insert(set.end(), blist.begin() + bstart[o], blist.begin() + bstart[o + 1]);
     }
   }
+  return sets;
+}
+
+// One copy per (meeting block, body), in block order, appended after the shared blocks.
+void SparseGrid::add_copies(std::vector<std::vector<std::int64_t>>& sets) {
+  const std::size_t nb = shared_;
   for (std::size_t b = 0; b < nb; ++b) {
     const std::int32_t m = meeting_of_[b];
     if (m < 0) continue;
@@ -224,8 +217,14 @@ void SparseGrid::assign_bodies(std::span<const std::int64_t> bodies) {
       copy_body_.push_back(body);
     }
   }
-  // Neighbour lists per (owner, body) for owners next to a meeting block; every other particle
-  // keeps its owner's list.
+}
+
+// Neighbour lists per (owner, body) for owners next to a meeting block; every other particle
+// keeps its owner's list.
+void SparseGrid::link_copies(std::span<const std::int64_t> bodies,
+                             const std::vector<std::uint32_t>& bstart,
+                             const std::vector<std::int64_t>& blist) {
+  const std::size_t nb = shared_;
   list_of_.resize(owner_.size());
   for (std::size_t o = 0; o < nb; ++o) {
     bool near = false;
@@ -259,6 +258,33 @@ void SparseGrid::assign_bodies(std::span<const std::int64_t> bodies) {
       list_of_[p] = first_list + 8 * static_cast<std::uint32_t>(it - (blist.begin() + bstart[o]));
     }
   }
+}
+
+void SparseGrid::assign_bodies(std::span<const std::int64_t> bodies) {
+  const std::size_t nb = shared_;
+  // Bodies of each owner block's particles (sorted, distinct), CSR by owner block.
+  std::vector<std::uint32_t> bstart(nb + 1, 0);
+  std::vector<std::int64_t> blist;
+  std::vector<std::int64_t> tmp;
+  bool several = false;
+  for (std::size_t b = 0; b < nb; ++b) {
+    tmp.clear();
+    for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k) {
+      const std::int64_t body = bodies[particles_[k]];
+      if (tmp.empty() || tmp.back() != body) tmp.push_back(body);
+    }
+    std::sort(tmp.begin(), tmp.end());
+    tmp.erase(std::unique(tmp.begin(), tmp.end()), tmp.end());
+    if (!blist.empty() && !tmp.empty() && tmp.front() != blist.front()) several = true;
+    if (tmp.size() > 1) several = true;
+    blist.insert(blist.end(), tmp.begin(), tmp.end());
+    bstart[b + 1] = static_cast<std::uint32_t>(blist.size());
+  }
+  if (!several) return;  // one body: the shared grid is its field
+  auto sets = find_meetings(bstart, blist);
+  if (sets.empty()) return;
+  add_copies(sets);
+  link_copies(bodies, bstart, blist);
 }
 
 void SparseGrid::clear_nodes() {

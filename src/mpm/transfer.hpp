@@ -1,8 +1,8 @@
 #pragma once
 // The transfer scheme (TransferKind), decided once when the solver is built: which stages the
-// step has and what each transfer does, as plain data the stages read. The scene checks the
-// configuration for a user (src/scene/parse_solver.cpp); TransferPolicy::from refuses what no
-// policy implements, for callers that build a SolverConfig themselves.
+// step has and what each transfer does, as plain data the stages read. The configuration is
+// checked once, where it is read: the scene (src/scene/parse_solver.cpp) refuses a combination
+// no policy implements, naming the key and its line; TransferPolicy::from trusts it.
 
 #include <cstdint>
 
@@ -26,9 +26,9 @@ struct TransferPolicy {
   // the filter_heat stage, stages/filter_heat.cpp).
   bool filter_heat = false;
 
-  // The policy of a configuration; throws std::invalid_argument for a combination no policy
-  // implements (the scene reports the same rules with file, line and key: parse_solver.cpp;
-  // this guards the API the tests and benchmarks use directly).
+  // The policy of a configuration the scene has validated (parse_solver.cpp's transfer rules:
+  // apic needs a smooth shape, pic_fraction in [0, 1] and flip only, xpic_order and fmpm_order
+  // in [1, 32], filter_every >= 1 for xpic and fmpm only, filter_heat with a filtering transfer).
   static TransferPolicy from(const SolverConfig& c);
 
   // The step has a filter stage: XPIC or FMPM of order 2 or more (order 1 is PIC, bitwise).

@@ -35,6 +35,10 @@ int as_int(std::size_t n) {
   }
   return static_cast<int>(n);
 }
+// Every rank's n values of `type` combined by `op`, in place (MPI_Allreduce).
+void allreduce_in_place(void* data, std::size_t n, MPI_Datatype type, MPI_Op op) {
+  MPI_Allreduce(MPI_IN_PLACE, data, as_int(n), type, op, MPI_COMM_WORLD);
+}
 #endif
 
 }  // namespace
@@ -106,15 +110,13 @@ void Comm::abort(int code) const {
 }
 
 double Comm::max(double v) const {
-#ifdef SHATTER_HAVE_MPI
-  if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-#endif
+  max(std::span<double>(&v, 1));
   return v;
 }
 
 double Comm::min(double v) const {
 #ifdef SHATTER_HAVE_MPI
-  if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  if (size_ > 1) allreduce_in_place(&v, 1, MPI_DOUBLE, MPI_MIN);
 #endif
   return v;
 }
@@ -126,9 +128,7 @@ std::int64_t Comm::sum(std::int64_t v) const {
 
 void Comm::sum(std::span<std::int64_t> v) const {
 #ifdef SHATTER_HAVE_MPI
-  if (size_ > 1) {
-    MPI_Allreduce(MPI_IN_PLACE, v.data(), as_int(v.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
-  }
+  if (size_ > 1) allreduce_in_place(v.data(), v.size(), MPI_INT64_T, MPI_SUM);
 #else
   (void)v;
 #endif
@@ -136,9 +136,7 @@ void Comm::sum(std::span<std::int64_t> v) const {
 
 void Comm::max(std::span<double> v) const {
 #ifdef SHATTER_HAVE_MPI
-  if (size_ > 1) {
-    MPI_Allreduce(MPI_IN_PLACE, v.data(), as_int(v.size()), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  }
+  if (size_ > 1) allreduce_in_place(v.data(), v.size(), MPI_DOUBLE, MPI_MAX);
 #else
   (void)v;
 #endif

@@ -228,15 +228,8 @@ double young_modulus(const MaterialSpec& m) {
   return 0.0;
 }
 
-}  // namespace
-
-BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
-                   const MaterialCatalogue& catalogue, bool placed_by_impact) {
-  BodySpec b;
-  b.name = name;
-  b.where = r.where("shape");
-  b.shape = read_shape(r, placed_by_impact, scene.base_dir);
-  b.material = read_material(r, catalogue);
+// The body's initial velocity, whether it is driven, and its specific internal energy.
+void read_motion(Reader& r, BodySpec& b, bool placed_by_impact) {
   if (!placed_by_impact) b.velocity = r.vec3("velocity", Vec3::Zero());
   r.within("velocity", b.velocity.norm(), 0.0, ranges::kMaxSpeed, "m/s (speed)",
            ranges::kSpeedReason);
@@ -249,7 +242,10 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   }
   b.energy = r.non_negative("energy", r.number("energy", 0.0));
   r.within("energy", b.energy, 0.0, ranges::kMaxSpecificEnergy, "J/kg", ranges::kEnergyReason);
+}
 
+// The point spacing: given, or cell_size / points_per_cell.
+void read_spacing(Reader& r, BodySpec& b, const Scene& scene) {
   if (r.has("spacing") && r.has("points_per_cell")) {
     r.fail("points_per_cell", "give spacing or points_per_cell, not both");
   }
@@ -263,30 +259,26 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
     if (ppc < 1) r.fail("points_per_cell", fmt::format("must be >= 1 (got {})", ppc));
     b.spacing = scene.solver.cell_size / static_cast<double>(ppc);
   }
-  // The point lattice turned off the grid's axes about the origin (MPM paper Sec. 4.1.1 aligns
-  // it; docs/validation-lab-impact.md, "Grid imprinting": an aligned lattice prints cracks along
-  // the grid axes). A symmetry plane allows turns about its normal only (bodies_check.cpp).
-  r.note_range("lattice_rotation",
-               "about x, then y, then z (fixed axes), through the origin; with a symmetry plane "
-               "only its normal's angle",
-               "degrees");
-  b.lattice_rotation = read_rotation(r, "lattice_rotation");
-  {
-    // Refused before the lattice is filled: a spacing far below the body's size would take hours
-    // and all memory to find out.
-    const double volume =
-        b.shape.exact_volume().value_or((b.shape.bounds().hi - b.shape.bounds().lo).prod());
-    const double points = volume / (b.spacing * b.spacing * b.spacing);
-    if (points > ranges::kMaxPoints) {
-      r.fail(r.has("spacing")           ? "spacing"
-             : r.has("points_per_cell") ? "points_per_cell"
-                                        : "shape",
-             fmt::format("gives about {:.3g} points for this body (spacing {} m, volume {:.3g} "
-                         "m^3); the limit is {:.0e} (~0.5 kB each)",
-                         points, b.spacing, volume, ranges::kMaxPoints));
-    }
-  }
+}
 
+// Refused before the lattice is filled: a spacing far below the body's size would take hours
+// and all memory to find out.
+void check_point_count(Reader& r, const BodySpec& b) {
+  const double volume =
+      b.shape.exact_volume().value_or((b.shape.bounds().hi - b.shape.bounds().lo).prod());
+  const double points = volume / (b.spacing * b.spacing * b.spacing);
+  if (points > ranges::kMaxPoints) {
+    r.fail(r.has("spacing")           ? "spacing"
+           : r.has("points_per_cell") ? "points_per_cell"
+                                      : "shape",
+           fmt::format("gives about {:.3g} points for this body (spacing {} m, volume {:.3g} "
+                       "m^3); the limit is {:.0e} (~0.5 kB each)",
+                       points, b.spacing, volume, ranges::kMaxPoints));
+  }
+}
+
+// body.mass (sets rho0), then the material's own checks, each refusal naming the key it concerns.
+void read_mass_and_validate(Reader& r, BodySpec& b) {
   // Mass given: the density changes, the volume stays (MPM paper Table 2, projectile mass).
   r.note_range("mass", "", "kg");
   if (auto mass = r.optional_number("mass")) {
@@ -306,7 +298,10 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
     }
     r.fail(r.has("mass") && msg.find("rho0") != std::string::npos ? "mass" : "material", msg);
   }
+}
 
+// [body.NAME.damage]: the damage model and its parameters (flaws drawn for grady_kipp).
+void read_damage(Reader& r, BodySpec& b, const Scene& scene) {
   toml::table* damage = r.subtable("damage");
   if (damage != nullptr) {
     Reader d(*damage, r.key_path("damage"), r.where("damage"));
@@ -344,6 +339,30 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
       r.fail("material", e.what());
     }
   }
+}
+
+}  // namespace
+
+BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
+                   const MaterialCatalogue& catalogue, bool placed_by_impact) {
+  BodySpec b;
+  b.name = name;
+  b.where = r.where("shape");
+  b.shape = read_shape(r, placed_by_impact, scene.base_dir);
+  b.material = read_material(r, catalogue);
+  read_motion(r, b, placed_by_impact);
+  read_spacing(r, b, scene);
+  // The point lattice turned off the grid's axes about the origin (MPM paper Sec. 4.1.1 aligns
+  // it; docs/validation-lab-impact.md, "Grid imprinting": an aligned lattice prints cracks along
+  // the grid axes). A symmetry plane allows turns about its normal only (bodies_check.cpp).
+  r.note_range("lattice_rotation",
+               "about x, then y, then z (fixed axes), through the origin; with a symmetry plane "
+               "only its normal's angle",
+               "degrees");
+  b.lattice_rotation = read_rotation(r, "lattice_rotation");
+  check_point_count(r, b);
+  read_mass_and_validate(r, b);
+  read_damage(r, b, scene);
   return b;
 }
 

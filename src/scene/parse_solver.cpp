@@ -27,21 +27,8 @@ BoundaryKind boundary_of(const std::string& s) {
   return BoundaryKind::none;
 }
 
-}  // namespace
-
-void read_solver(Reader& root, Scene& scene) {
-  root.note_default("solver", "*required*");
-  toml::table* t = root.subtable("solver");
-  if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
-  Reader r(*t, "solver");
-  r.allow({"method",           "shape",          "transfer",     "cell_size",  "cfl",
-           "end_time",         "dt_max",         "dt_min",       "gravity",    "symmetry_plane",
-           "reorder_interval", "viscosity",      "sph",          "contact",    "friction",
-           "contact_pair",     "dt_floor_ratio", "pic_fraction", "xpic_order", "fmpm_order",
-           "filter_every",     "filter_heat"});
-  r.reject_unknown();
-
-  SolverConfig& c = scene.solver;
+// solver.shape and solver.transfer, and the pairing the transfer needs from the shape.
+void read_shape_and_transfer(Reader& r, SolverConfig& c) {
   const std::string shape = r.choice("shape", "ugimp", kShapes);
   c.shape = shape == "linear"  ? ShapeKind::linear
             : shape == "ugimp" ? ShapeKind::ugimp
@@ -59,6 +46,28 @@ void read_solver(Reader& root, Scene& scene) {
            "\"apic\" needs a smooth shape function (solver.shape = \"ugimp\" or "
            "\"bspline2\"), not \"linear\"");
   }
+}
+
+// An order key of a filtering transfer (xpic_order, fmpm_order): an integer in [1, 32], read
+// when `applies` (the transfer is `transfer`), else refused when given. Orders past ~40 are
+// unstable (Hammerquist & Nairn 2017; each order is one more grid-particle-grid pass) and the
+// binomial weights C(m, k) lose precision; FMPM(k) makes the same passes, so the same bound
+// (Nairn 2026, arXiv 2604.07307, finds high orders need smaller time steps: large k is for
+// study, not production).
+void read_order(Reader& r, const char* key, bool applies, const char* transfer, int& order) {
+  if (!applies) {
+    if (r.has(key))
+      r.fail(key, fmt::format("applies only with solver.transfer = \"{}\"", transfer));
+    return;
+  }
+  const auto v = r.integer(key, order);
+  if (v < 1 || v > 32) r.fail(key, fmt::format("must be an integer in [1, 32] (got {})", v));
+  order = static_cast<int>(v);
+}
+
+// The options of one transfer scheme (pic_fraction, xpic_order, fmpm_order, filter_every,
+// filter_heat): each refused under a transfer it does not apply to.
+void read_transfer_options(Reader& r, SolverConfig& c) {
   // FLIP/PIC blend fraction (flip only) and XPIC order (xpic only); TransferKind says what each
   // does. The blend is read only when given, so scenes without it resolve as before.
   r.note_range("pic_fraction", "[0, 1]; flip only; absent = 0 (pure FLIP)");
@@ -70,27 +79,14 @@ void read_solver(Reader& root, Scene& scene) {
       r.fail("pic_fraction", fmt::format("must be in [0, 1] (got {})", *f));
     c.pic_fraction = *f;
   }
-  if (c.transfer == TransferKind::xpic) {
-    const auto order = r.integer("xpic_order", c.xpic_order);
-    if (order < 1 || order > 32)
-      r.fail("xpic_order", fmt::format("must be an integer in [1, 32] (got {})", order));
-    c.xpic_order = static_cast<int>(order);
-  } else if (r.has("xpic_order")) {
-    r.fail("xpic_order", "applies only with solver.transfer = \"xpic\"");
-  }
+  read_order(r, "xpic_order", c.transfer == TransferKind::xpic, "xpic", c.xpic_order);
   // FMPM order (fmpm only) and the periodic filter (xpic and fmpm: the filtered update on every
   // N-th step, FLIP on the others).
   r.note_range("fmpm_order", "[1, 32]; fmpm only");
-  if (c.transfer == TransferKind::fmpm) {
-    const auto order = r.integer("fmpm_order", c.fmpm_order);
-    if (order < 1 || order > 32)
-      r.fail("fmpm_order", fmt::format("must be an integer in [1, 32] (got {})", order));
-    c.fmpm_order = static_cast<int>(order);
-  } else if (r.has("fmpm_order")) {
-    r.fail("fmpm_order", "applies only with solver.transfer = \"fmpm\"");
-  }
+  read_order(r, "fmpm_order", c.transfer == TransferKind::fmpm, "fmpm", c.fmpm_order);
   r.note_range("filter_every", "integer >= 1 (steps); xpic and fmpm only; absent = 1");
   if (r.has("filter_every")) {
+    // APIC's C_p and the blend's fraction act on every step; a FLIP step would drop C_p.
     if (c.transfer != TransferKind::xpic && c.transfer != TransferKind::fmpm)
       r.fail("filter_every", "applies only with solver.transfer = \"xpic\" or \"fmpm\"");
     const auto every = r.integer("filter_every", 1);
@@ -110,6 +106,11 @@ void read_solver(Reader& root, Scene& scene) {
              "\"flip\" with pic_fraction > 0 (plain FLIP removes no kinetic energy; APIC's affine "
              "velocity keeps part of what its update drops)");
   }
+}
+
+// Grid spacing, time-step control and the end time, gravity, the symmetry plane, re-ordering.
+void read_step_control(Reader& r, Scene& scene) {
+  SolverConfig& c = scene.solver;
   c.cell_size = r.positive("cell_size", r.number("cell_size"));
   r.within("cell_size", c.cell_size, ranges::kMinLength, ranges::kMaxLength, "m",
            ranges::kLengthReason);
@@ -142,17 +143,17 @@ void read_solver(Reader& root, Scene& scene) {
   r.note_range("reorder_interval", ">= 0", "steps");
   if (reorder < 0) r.fail("reorder_interval", "must be >= 0");
   c.reorder_interval = static_cast<unsigned>(reorder);
+}
 
+// solver.method and [solver.sph] (read when given, or with method = "sph").
+void read_method_and_sph(Reader& r, Scene& scene) {
   // The method (issue 10): MPM (default; not written back, so MPM scenes resolve as before) or
   // Benz & Asphaug's SPH (include/shatter/sph/solver.hpp).
   if (r.has("method")) scene.method = r.choice("method", "mpm", kMethods);
   toml::table* sph = r.subtable("sph");
   if (sph != nullptr || scene.method == "sph") {
-    if (sph == nullptr) {
-      r.table().insert("sph", toml::table{});
-      sph = r.subtable("sph");
-    }
-    Reader q(*sph, "solver.sph", r.where("sph"));
+    toml::table& t = table_or_empty(r, "sph");
+    Reader q(t, "solver.sph", r.where("sph"));
     q.allow({"h_factor", "alpha", "beta", "skin", "continuity", "viscosity_switch", "alpha_min",
              "alpha_max", "switch_decay"});
     q.reject_unknown();
@@ -178,7 +179,47 @@ void read_solver(Reader& root, Scene& scene) {
                                       scene.sph.alpha_min, scene.sph.alpha_max));
     }
   }
+}
 
+// [[solver.contact_pair]]: per-pair Coulomb coefficients, resolved to body ids once the bodies are
+// read (resolve_contact_pairs).
+void read_contact_pairs(Reader& r, Scene& scene) {
+  r.note_type("contact_pair", "array of tables");
+  if (toml::node* pairs = r.table().get("contact_pair")) {
+    toml::array* a = pairs->as_array();
+    if (a == nullptr) {
+      r.fail("contact_pair",
+             "must be an array of tables ([[solver.contact_pair]] with bodies and friction)");
+    }
+    for (std::size_t k = 0; k < a->size(); ++k) {
+      toml::table* pt = (*a)[k].as_table();
+      const std::string path = fmt::format("solver.contact_pair[{}]", k);
+      if (pt == nullptr) r.fail("contact_pair", fmt::format("element {} is not a table", k));
+      Reader q(*pt, path, r.where("contact_pair"));
+      q.allow({"bodies", "friction"});
+      q.reject_unknown();
+      ContactPairSpec spec;
+      spec.where = q.where("bodies");
+      spec.key = q.key_path("bodies");
+      q.note_type("bodies", "[\"body\", \"body\"]");
+      q.note_default("bodies", "*required*");
+      const toml::node* names = q.table().get("bodies");
+      const toml::array* na = names ? names->as_array() : nullptr;
+      if (na == nullptr || na->size() != 2 || !(*na)[0].is_string() || !(*na)[1].is_string()) {
+        q.fail("bodies", "must be an array of two body names, e.g. [\"projectile\", \"target\"]");
+      }
+      spec.a = (*na)[0].as_string()->get();
+      spec.b = (*na)[1].as_string()->get();
+      if (spec.a == spec.b) q.fail("bodies", "must name two different bodies");
+      spec.friction = q.non_negative("friction", q.number("friction"));
+      scene.contact_pairs.push_back(spec);
+    }
+  }
+}
+
+// solver.contact, with friction and the contact pairs for multi-field contact.
+void read_contact(Reader& r, Scene& scene) {
+  SolverConfig& c = scene.solver;
   // Contact between bodies (engine/config.hpp ContactKind). The paper's single shared field is
   // the default: it is what the paper ran, and it keeps earlier results bitwise.
   const std::string contact = r.choice("contact", "single_field", kContacts);
@@ -195,45 +236,39 @@ void read_solver(Reader& root, Scene& scene) {
   } else {
     // Coulomb coefficient of every pair of bodies not listed in contact_pair.
     c.contact.friction = r.non_negative("friction", r.number("friction", 0.0));
-    r.note_type("contact_pair", "array of tables");
-    if (toml::node* pairs = r.table().get("contact_pair")) {
-      toml::array* a = pairs->as_array();
-      if (a == nullptr) {
-        r.fail("contact_pair",
-               "must be an array of tables ([[solver.contact_pair]] with bodies and friction)");
-      }
-      for (std::size_t k = 0; k < a->size(); ++k) {
-        toml::table* pt = (*a)[k].as_table();
-        const std::string path = fmt::format("solver.contact_pair[{}]", k);
-        if (pt == nullptr) r.fail("contact_pair", fmt::format("element {} is not a table", k));
-        Reader q(*pt, path, r.where("contact_pair"));
-        q.allow({"bodies", "friction"});
-        q.reject_unknown();
-        ContactPairSpec spec;
-        spec.where = q.where("bodies");
-        spec.key = q.key_path("bodies");
-        q.note_type("bodies", "[\"body\", \"body\"]");
-        q.note_default("bodies", "*required*");
-        const toml::node* names = q.table().get("bodies");
-        const toml::array* na = names ? names->as_array() : nullptr;
-        if (na == nullptr || na->size() != 2 || !(*na)[0].is_string() || !(*na)[1].is_string()) {
-          q.fail("bodies", "must be an array of two body names, e.g. [\"projectile\", \"target\"]");
-        }
-        spec.a = (*na)[0].as_string()->get();
-        spec.b = (*na)[1].as_string()->get();
-        if (spec.a == spec.b) q.fail("bodies", "must name two different bodies");
-        spec.friction = q.non_negative("friction", q.number("friction"));
-        scene.contact_pairs.push_back(spec);
-      }
-    }
+    read_contact_pairs(r, scene);
   }
+}
 
-  toml::table* v = r.subtable("viscosity");
-  if (v == nullptr) {
-    r.table().insert("viscosity", toml::table{});
-    v = r.subtable("viscosity");
+// [solver.mpi]: the load balancing of a run on several MPI ranks (MpiTuning, docs/mpi.md), MPM
+// only; written into the run's scene copy so that a run records the values it ran with.
+void read_mpi(Reader& r, Scene& scene) {
+  if (scene.method != "mpm") {
+    if (r.has("mpi"))
+      r.fail("mpi", "applies only with solver.method = \"mpm\" (SPH runs on one rank)");
+    return;
   }
-  Reader q(*v, "solver.viscosity", r.where("viscosity"));
+  MpiTuning& m = scene.solver.mpi;
+  toml::table& t = table_or_empty(r, "mpi");
+  Reader q(t, "solver.mpi", r.where("mpi"));
+  q.allow({"rebalance_every", "imbalance"});
+  q.reject_unknown();
+  const auto every = q.integer("rebalance_every", m.rebalance_every);
+  q.note_range("rebalance_every", ">= 1", "steps");
+  if (every < 1 || every > std::numeric_limits<int>::max())
+    q.fail("rebalance_every", fmt::format("must be an integer >= 1 (got {})", every));
+  m.rebalance_every = static_cast<unsigned>(every);
+  m.imbalance = q.number("imbalance", m.imbalance);
+  // max/mean is >= 1 on any cut: 1 recuts at every check (the MPI tests' setting).
+  q.note_range("imbalance", ">= 1 (largest / mean particles per rank); 1 = recut at every check");
+  if (!(m.imbalance >= 1.0 && std::isfinite(m.imbalance)))
+    q.fail("imbalance", fmt::format("must be a number >= 1 (got {})", m.imbalance));
+}
+
+// [solver.viscosity]: the artificial bulk viscosity's coefficients.
+void read_viscosity(Reader& r, SolverConfig& c) {
+  toml::table& v = table_or_empty(r, "viscosity");
+  Reader q(v, "solver.viscosity", r.where("viscosity"));
   q.allow({"linear", "quadratic"});
   q.reject_unknown();
   // Defaults are the common hydrocode choice (LS-DYNA's Q2 = 0.06 and Q1^2 = 1.5^2).
@@ -241,16 +276,35 @@ void read_solver(Reader& root, Scene& scene) {
   c.viscosity.quadratic = q.non_negative("quadratic", q.number("quadratic", 2.25));
 }
 
+}  // namespace
+
+void read_solver(Reader& root, Scene& scene) {
+  root.note_default("solver", "*required*");
+  toml::table* t = root.subtable("solver");
+  if (t == nullptr) root.fail("solver", "is required but missing (cell_size, end_time, ...)");
+  Reader r(*t, "solver");
+  r.allow({"method",           "shape",          "transfer",     "cell_size",  "cfl",
+           "end_time",         "dt_max",         "dt_min",       "gravity",    "symmetry_plane",
+           "reorder_interval", "viscosity",      "sph",          "contact",    "friction",
+           "contact_pair",     "dt_floor_ratio", "pic_fraction", "xpic_order", "fmpm_order",
+           "filter_every",     "filter_heat",    "mpi"});
+  r.reject_unknown();
+
+  read_shape_and_transfer(r, scene.solver);
+  read_transfer_options(r, scene.solver);
+  read_step_control(r, scene);
+  read_method_and_sph(r, scene);
+  read_contact(r, scene);
+  read_viscosity(r, scene.solver);
+  read_mpi(r, scene);
+}
+
 void read_domain(Reader& root, Scene& scene) {
   Domain& d = scene.solver.domain;
   const double h = scene.solver.cell_size;
   const int sym = scene.symmetry_axis;
-  toml::table* t = root.subtable("domain");
-  if (t == nullptr) {
-    root.table().insert("domain", toml::table{});
-    t = root.subtable("domain");
-  }
-  Reader r(*t, "domain", root.where("domain"));
+  toml::table& t = table_or_empty(root, "domain");
+  Reader r(t, "domain", root.where("domain"));
   std::vector<std::string> allowed = {"lo", "hi", "boundary"};
   allowed.insert(allowed.end(), kFaces.begin(), kFaces.end());
   r.allow(allowed);

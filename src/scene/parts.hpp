@@ -12,6 +12,10 @@
 
 namespace shatter::scene {
 
+// The table `key` of `parent`, inserted empty when the scene has none (so that the defaults read
+// from it are written into the resolved scene).
+toml::table& table_or_empty(Reader& parent, const char* key);
+
 // [solver] and [domain]; fills scene.solver, end_time, symmetry_axis.
 void read_solver(Reader& root, Scene& scene);
 void read_domain(Reader& root, Scene& scene);

@@ -117,13 +117,15 @@ std::size_t Scene::particle_count() const {
   return n;
 }
 
+toml::table& table_or_empty(Reader& parent, const char* key) {
+  if (toml::table* t = parent.subtable(key)) return *t;
+  parent.table().insert(key, toml::table{});
+  return *parent.subtable(key);
+}
+
 void read_fracture(Reader& root, Scene& scene) {
-  toml::table* t = root.subtable("fracture");
-  if (t == nullptr) {
-    root.table().insert("fracture", toml::table{});
-    t = root.subtable("fracture");
-  }
-  Reader r(*t, "fracture", root.where("fracture"));
+  toml::table& t = table_or_empty(root, "fracture");
+  Reader r(t, "fracture", root.where("fracture"));
   r.allow({"seed", "threshold", "fragment_method", "fragment_cell", "static_strength"});
   r.reject_unknown();
   const auto seed = r.integer("seed", 1);
@@ -155,12 +157,8 @@ void read_fracture(Reader& root, Scene& scene) {
 }
 
 void read_output(Reader& root, Scene& scene) {
-  toml::table* t = root.subtable("output");
-  if (t == nullptr) {
-    root.table().insert("output", toml::table{});
-    t = root.subtable("output");
-  }
-  Reader r(*t, "output", root.where("output"));
+  toml::table& t = table_or_empty(root, "output");
+  Reader r(t, "output", root.where("output"));
   r.allow({"directory", "snapshot_every", "columns", "checkpoint_every", "timeseries_every",
            "progress_every", "fragments", "snapshot_precision", "ss_radius"});
   r.reject_unknown();

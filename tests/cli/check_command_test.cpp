@@ -16,53 +16,30 @@
 #include <thread>
 #include <vector>
 
-#ifndef SHATTER_BINARY
-#error "SHATTER_BINARY must name the built shatter executable (tests/CMakeLists.txt)"
-#endif
+#include "support/cli_run.hpp"
 
 namespace shatter {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path kTiny = fs::path(SHATTER_SOURCE_DIR) / "tests" / "fuzz" / "tiny.toml";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using test::kTiny;
+using test::slurp;
 
 struct Result {
   int code = -1;
   std::string out, err;
 };
 
-class Cli : public ::testing::Test {
+class Cli : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("shatter_check_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
+  Cli() : TempDirTest("check") {}
 
   Result shatter(const std::vector<std::string>& args, const std::string& env = "") const {
-    std::string cmd = env + " '" + SHATTER_BINARY + "'";
-    for (const auto& a : args) cmd += " '" + a + "'";
+    std::string cmd = env + " " + test::shatter_command(args);
     cmd += " 2>'" + (dir_ / "stderr.txt").string() + "' >'" + (dir_ / "stdout.txt").string() + "'";
     const int status = std::system(cmd.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "stdout.txt"),
-            slurp(dir_ / "stderr.txt")};
+    return {test::exit_code(status), slurp(dir_ / "stdout.txt"), slurp(dir_ / "stderr.txt")};
   }
-
-  fs::path dir_;
 };
 
 // The number after `body NAME:` ... `N points` in run --check's log, or in check's table.

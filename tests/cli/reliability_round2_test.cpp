@@ -21,23 +21,14 @@
 #include <thread>
 #include <vector>
 
-#ifndef SHATTER_BINARY
-#error "SHATTER_BINARY must name the built shatter executable (tests/CMakeLists.txt)"
-#endif
+#include "support/cli_run.hpp"
 
 namespace shatter {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path kTiny = fs::path(SHATTER_SOURCE_DIR) / "tests" / "fuzz" / "tiny.toml";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using test::kTiny;
+using test::slurp;
 
 // timeseries.csv without its wall-clock column.
 std::string rows_of(const fs::path& file) {
@@ -58,19 +49,12 @@ struct Result {
   std::string err;
 };
 
-class Reliability2 : public ::testing::Test {
+class Reliability2 : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("shatter_cli2_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  Reliability2() : TempDirTest("cli2") {}
   void TearDown() override {
     if (mounted_) ::umount((dir_ / "disk").c_str());
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
+    TempDirTest::TearDown();
   }
 
   // The command line of `shatter ARGS --threads 1`, stderr to `err`.
@@ -79,10 +63,7 @@ class Reliability2 : public ::testing::Test {
   // becomes shatter (a signal sent to it reaches shatter).
   std::string command(const std::vector<std::string>& args, const fs::path& err,
                       bool exec = true) const {
-    std::string cmd = exec ? "exec '" : "'";
-    cmd += SHATTER_BINARY;
-    cmd += "'";
-    for (const auto& a : args) cmd += " '" + a + "'";
+    std::string cmd = (exec ? "exec " : "") + test::shatter_command(args);
     if (args[0] == "run" || args[0] == "resume") cmd += " --threads 1";
     cmd += " 2>'";
     cmd += err.string();
@@ -92,10 +73,7 @@ class Reliability2 : public ::testing::Test {
 
   Result shatter(const std::vector<std::string>& args) const {
     const int status = std::system(command(args, dir_ / "stderr.txt").c_str());
-    int code = -1;
-    if (WIFEXITED(status)) code = WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) code = 128 + WTERMSIG(status);
-    return {code, slurp(dir_ / "stderr.txt")};
+    return {test::exit_code(status), slurp(dir_ / "stderr.txt")};
   }
 
   // A finished run to `end` (s) in `out`, with `sets` applied.
@@ -110,7 +88,6 @@ class Reliability2 : public ::testing::Test {
     ASSERT_EQ(r.code, 0) << r.err;
   }
 
-  fs::path dir_;
   bool mounted_ = false;
 };
 

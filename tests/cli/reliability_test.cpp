@@ -16,49 +16,29 @@
 #include <string>
 #include <vector>
 
-#ifndef SHATTER_BINARY
-#error "SHATTER_BINARY must name the built shatter executable (tests/CMakeLists.txt)"
-#endif
+#include "support/cli_run.hpp"
 
 namespace shatter {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path kTiny = fs::path(SHATTER_SOURCE_DIR) / "tests" / "fuzz" / "tiny.toml";
+using test::kTiny;
+using test::slurp;
 
 struct Result {
   int code = -1;
   std::string err;
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-class Reliability : public ::testing::Test {
+class Reliability : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("shatter_cli_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
+  Reliability() : TempDirTest("cli") {}
 
   Result shatter(const std::vector<std::string>& args) const {
-    std::string cmd = std::string("'") + SHATTER_BINARY + "'";
-    for (const auto& a : args) cmd += " '" + a + "'";
+    std::string cmd = test::shatter_command(args);
     cmd += " --threads 1 2>'" + (dir_ / "stderr.txt").string() + "' >/dev/null";
     const int status = std::system(cmd.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "stderr.txt")};
+    return {test::exit_code(status), slurp(dir_ / "stderr.txt")};
   }
 
   // Every file of a run directory, timeseries.csv without its wall-clock column.
@@ -78,8 +58,6 @@ class Reliability : public ::testing::Test {
     }
     return files;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(Reliability, CollapsingTimeStepStopsWithExit3AndAPostMortem) {

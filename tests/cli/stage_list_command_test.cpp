@@ -14,16 +14,13 @@
 #include <string>
 #include <vector>
 
-#ifndef SHATTER_BINARY
-#error "SHATTER_BINARY must name the built shatter executable (tests/CMakeLists.txt)"
-#endif
+#include "support/cli_run.hpp"
 
 namespace shatter {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path kTiny = fs::path(SHATTER_SOURCE_DIR) / "tests" / "fuzz" / "tiny.toml";
+using test::kTiny;
 
 struct Listed {
   int code = -1;
@@ -34,17 +31,15 @@ struct Listed {
 // `prefix` runs the command under a launcher (mpiexec); stderr is dropped (the log).
 Listed stages_of(const std::vector<std::string>& sets, const std::string& prefix = "") {
   const fs::path out = fs::temp_directory_path() / ("shatter_stages_" + std::to_string(::getpid()));
-  std::string cmd = prefix + " '" + SHATTER_BINARY + "' check '" + kTiny.string() +
-                    "' --stages --threads 1 --quiet";
+  std::string cmd =
+      prefix + " " +
+      test::shatter_command({"check", kTiny.string(), "--stages", "--threads", "1", "--quiet"});
   for (const auto& s : sets) cmd += " --set '" + s + "'";
   cmd += " 2>/dev/null >'" + out.string() + "'";
   const int status = std::system(cmd.c_str());
   Listed l;
   l.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream f(out);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  l.out = ss.str();
+  l.out = test::slurp(out);
   fs::remove(out);
   const std::regex line(R"(^\s*\d+\. (\S+))");
   std::istringstream lines(l.out);

@@ -42,4 +42,18 @@ if [ -d "$source/python/shatterpy" ]; then
     fail "import shatterpy failed from $site"
   [[ $where == "$site"/* ]] || fail "shatterpy imported from $where, not the prefix"
 fi
+# The user's tools: every tools/*.py installed (side by side: they import each other), each
+# answering --help from the prefix with the installed shatterpy on PYTHONPATH (the plot tools
+# import it); the shell scripts and the studies stay in the source tree.
+tools=$prefix/share/shatter/tools
+site=$(ls -d "$prefix"/lib*/python*/site-packages 2>/dev/null | head -1)
+for tool in "$source"/tools/*.py; do
+  name=$(basename "$tool")
+  [ -x "$tools/$name" ] || fail "tool $name not installed (executable) in $tools"
+  out=$(PYTHONPATH=$site MPLBACKEND=Agg /usr/bin/python3 "$tools/$name" --help 2>&1) || fail "$name --help: $out"
+  [[ $out == usage:* ]] || fail "$name --help printed no usage: ${out:0:200}"
+done
+[ -z "$(ls "$tools"/*.sh 2>/dev/null)" ] || fail "developer scripts installed: $(ls "$tools"/*.sh)"
+[ ! -e "$prefix/share/shatter/studies" ] || fail "studies/ installed"
+
 echo "install test: ok ($prefix)"

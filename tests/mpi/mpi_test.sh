@@ -64,10 +64,11 @@ case $case_name in
   migration_rebalance)
     # a fast cube crossing rank boundaries; the curve recut at every step (it must not change
     # a bit), and the run must have migrated particles and recut
-    export SHATTER_MPI_IMBALANCE=1.0 SHATTER_MPI_REBALANCE_EVERY=1
-    "$shatter" run "$src/tests/mpi/fast-body.toml" --out fast-1 --overwrite --threads 1 --quiet
-    mpi 3 -x SHATTER_MPI_IMBALANCE -x SHATTER_MPI_REBALANCE_EVERY "$shatter" run \
-      "$src/tests/mpi/fast-body.toml" --out fast-3 --overwrite --threads 1 2> log.txt
+    recut=(--set solver.mpi.imbalance=1.0 --set solver.mpi.rebalance_every=1)
+    "$shatter" run "$src/tests/mpi/fast-body.toml" --out fast-1 --overwrite --threads 1 --quiet \
+      "${recut[@]}"
+    mpi 3 "$shatter" run "$src/tests/mpi/fast-body.toml" --out fast-3 --overwrite --threads 1 \
+      "${recut[@]}" 2> log.txt
     "$compare" fast-1 fast-3 || fail "fast body on 3 ranks differs from one process"
     line=$(grep "mpi: 3 ranks" log.txt) || fail "no mpi summary line"
     echo "$line"

@@ -125,6 +125,14 @@ struct Domain {
   std::array<BoundaryKind, 6> faces{};  // all none
 };
 
+// MPI load balancing (docs/mpi.md, "Rebalancing"): every rebalance_every steps the migrate stage
+// compares the largest particle count of a rank with the mean and recuts the Morton curve when
+// the ratio exceeds `imbalance`. Results do not depend on them (any cut gives the same bits).
+struct MpiTuning {
+  unsigned rebalance_every = 10;
+  double imbalance = 1.2;
+};
+
 struct SolverConfig {
   ShapeKind shape = ShapeKind::ugimp;
   TransferKind transfer = TransferKind::flip;
@@ -172,6 +180,7 @@ struct SolverConfig {
   // Physically re-order particle columns by grid block every this many steps (between re-orders
   // the block lists are index lists into the columns). 0 = never.
   unsigned reorder_interval = 25;
+  MpiTuning mpi;  // several MPI ranks only
 };
 
 }  // namespace shatter

@@ -50,6 +50,14 @@ class SparseGrid {
     return (static_cast<std::uint64_t>(bx + off) << 42) |
            (static_cast<std::uint64_t>(by + off) << 21) | static_cast<std::uint64_t>(bz + off);
   }
+  // The inverse of key.
+  static Coord decode(std::uint64_t k) {
+    constexpr std::int64_t off = std::int64_t{1} << 20;
+    constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
+    return {static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 42) & mask) - off),
+            static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 21) & mask) - off),
+            static_cast<std::int32_t>(static_cast<std::int64_t>(k & mask) - off)};
+  }
   static int local(int lx, int ly, int lz) { return (lx * kBlock + ly) * kBlock + lz; }
 
   // Rebuilds blocks, particle lists and colours from the owner-block keys of all particles
@@ -115,7 +123,21 @@ class SparseGrid {
   void clear_nodes();
 
  private:
+  // The pieces of assign(), in order.
+  bool same_input(std::span<const std::uint64_t> owner_keys, std::span<const std::int64_t> bodies,
+                  std::span<const std::int64_t> ids) const;
+  void allocate_blocks(const std::vector<std::uint64_t>& owners);
+  void link_neighbours(const std::vector<std::uint64_t>& owners);
+  void sort_particles(std::span<const std::uint64_t> owner_keys,
+                      std::span<const std::int64_t> bodies, std::span<const std::int64_t> ids);
+  void size_nodes();
+  // The body fields (see assign), and its pieces.
   void assign_bodies(std::span<const std::int64_t> bodies);
+  std::vector<std::vector<std::int64_t>> find_meetings(const std::vector<std::uint32_t>& bstart,
+                                                       const std::vector<std::int64_t>& blist);
+  void add_copies(std::vector<std::vector<std::int64_t>>& sets);
+  void link_copies(std::span<const std::int64_t> bodies, const std::vector<std::uint32_t>& bstart,
+                   const std::vector<std::int64_t>& blist);
 
   std::vector<std::uint64_t> last_keys_;
   std::vector<std::uint64_t> block_keys_;  // sorted

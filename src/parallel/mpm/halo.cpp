@@ -46,15 +46,6 @@ struct Reduction {
   }
 };
 
-// The inverse of SparseGrid::key.
-SparseGrid::Coord decode_key(std::uint64_t k) {
-  constexpr std::int64_t off = std::int64_t{1} << 20;
-  constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
-  return {static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 42) & mask) - off),
-          static_cast<std::int32_t>(static_cast<std::int64_t>((k >> 21) & mask) - off),
-          static_cast<std::int32_t>(static_cast<std::int64_t>(k & mask) - off)};
-}
-
 std::uint64_t key_of(const mpm::State& s, std::uint32_t b) {
   const SparseGrid::Coord c = s.grid.coord(b);
   return SparseGrid::key(c.x, c.y, c.z);
@@ -197,7 +188,7 @@ void mirror_targets(Reduction& red) {
     double* field(std::size_t i, int f) { return red.field(red.targets[i], f); }
   } blocks{red, {}};
   blocks.coords.resize(red.targets.size());
-  for (const auto& [k, i] : red.index) blocks.coords[i] = decode_key(k);
+  for (const auto& [k, i] : red.index) blocks.coords[i] = SparseGrid::decode(k);
   red.s.boundaries.mirror_blocks(blocks, red.fields.first == 0 ? mpm::Boundaries::kMassMomentumForce
                                                                : mpm::Boundaries::kMomentum);
 }

@@ -1,5 +1,6 @@
 // The transfer keys of [solver] (issue 16): solver.transfer = "xpic" with solver.xpic_order, and
-// solver.pic_fraction for the FLIP/PIC blend; defaults, and errors that name the key.
+// solver.pic_fraction for the FLIP/PIC blend; defaults, and errors that name the key. The scene
+// is the one place these rules are checked (mpm::TransferPolicy::from trusts it, issue 28).
 
 #include <gtest/gtest.h>
 
@@ -79,7 +80,8 @@ TEST(TransferKeys, XpicTakesItsOrderAndDefaultsToFive) {
 TEST(TransferKeys, OutOfRangeOrMisplacedKeysNameTheKey) {
   for (const std::string& lines :
        {std::string("pic_fraction = 1.5"), std::string("pic_fraction = -0.1"),
-        std::string("transfer = \"xpic\"\npic_fraction = 0.5"),
+        std::string("pic_fraction = nan"), std::string("transfer = \"xpic\"\npic_fraction = 0.5"),
+        std::string("transfer = \"fmpm\"\npic_fraction = 0.2"),
         std::string("transfer = \"apic\"\npic_fraction = 0.5")}) {
     const std::string text = solver_with(lines);
     expect_names(error_of(text), line_of(text, "pic_fraction"), "solver.pic_fraction");
@@ -103,10 +105,14 @@ TEST(TransferKeys, OutOfRangeOrMisplacedKeysNameTheKey) {
        {std::string("transfer = \"fmpm\"\nfilter_every = 0"),
         std::string("transfer = \"xpic\"\nfilter_every = -3"),
         std::string("transfer = \"fmpm\"\nfilter_every = 2.5"), std::string("filter_every = 5"),
-        std::string("transfer = \"apic\"\nfilter_every = 5")}) {
+        std::string("transfer = \"apic\"\nfilter_every = 5"),
+        std::string("pic_fraction = 0.05\nfilter_every = 5")}) {
     const std::string text = solver_with(lines);
     expect_names(error_of(text), line_of(text, "filter_every"), "solver.filter_every");
   }
+  // APIC's C_p jumps where a point crosses a cell face with linear shapes.
+  const std::string linear = solver_with("shape = \"linear\"\ntransfer = \"apic\"");
+  expect_names(error_of(linear), line_of(linear, "transfer"), "solver.transfer");
   const std::string unknown = solver_with("transfer = \"xpik\"");
   const std::string msg = error_of(unknown);
   expect_names(msg, line_of(unknown, "transfer"), "solver.transfer");

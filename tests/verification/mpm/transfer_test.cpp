@@ -2,7 +2,8 @@
 // blend (SolverConfig::pic_fraction), checked against their definitions rather than against
 // earlier runs: XPIC's particle update against a dense-matrix evaluation of
 // v_p <- S V*_m = (I - (I - S S+)^m) v_p, XPIC(1) against PIC bitwise, the blend's linearity in
-// the fraction, momentum to round-off, rigid translation exactly, and bad settings refused.
+// the fraction, momentum to round-off, rigid translation exactly. Bad settings are refused by the
+// scene, naming the key and line (tests/unit/scene/transfer_keys_test.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -313,40 +314,4 @@ TEST(Transfers, RigidTranslationIsTransportedExactly) {
     }
     EXPECT_LT(worst, 1e-13) << name_of(transfer) << " " << f << " " << m;
   }
-}
-
-TEST(Transfers, BadSettingsAreRefusedWithTheKeyNamed) {
-  auto message = [](const SolverConfig& cfg) -> std::string {
-    try {
-      Simulation sim(cfg, noisy_block(false), elastic(), 1);
-    } catch (const std::invalid_argument& e) {
-      return e.what();
-    }
-    return "accepted";
-  };
-  EXPECT_NE(message(config(TransferKind::flip, 1.5)).find("pic_fraction must be in [0, 1]"),
-            std::string::npos);
-  EXPECT_NE(message(config(TransferKind::flip, std::nan(""))).find("pic_fraction"),
-            std::string::npos);
-  EXPECT_NE(message(config(TransferKind::apic, 0.2)).find("pic_fraction applies only"),
-            std::string::npos);
-  EXPECT_NE(message(config(TransferKind::xpic, 0.2)).find("pic_fraction applies only"),
-            std::string::npos);
-  EXPECT_NE(message(config(TransferKind::xpic, 0.0, 0)).find("xpic_order must be in [1, 32]"),
-            std::string::npos);
-  EXPECT_NE(message(config(TransferKind::xpic, 0.0, 40)).find("xpic_order"), std::string::npos);
-  EXPECT_NE(message(config(TransferKind::fmpm, 0.0, 0)).find("fmpm_order must be in [1, 32]"),
-            std::string::npos);
-  EXPECT_NE(message(config(TransferKind::fmpm, 0.0, 33)).find("fmpm_order"), std::string::npos);
-  EXPECT_NE(message(config(TransferKind::fmpm, 0.2)).find("pic_fraction applies only"),
-            std::string::npos);
-  SolverConfig every = config(TransferKind::fmpm);
-  every.filter_every = 0;
-  EXPECT_NE(message(every).find("filter_every must be >= 1"), std::string::npos);
-  every = config(TransferKind::apic);
-  every.filter_every = 5;
-  EXPECT_NE(message(every).find("filter_every applies only"), std::string::npos);
-  every = config(TransferKind::flip, 0.05);
-  every.filter_every = 5;
-  EXPECT_NE(message(every).find("filter_every applies only"), std::string::npos);
 }
