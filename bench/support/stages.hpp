@@ -20,7 +20,7 @@ namespace shatter::bench {
 
 inline constexpr std::size_t kParticleGrain = 2048;  // as the engine
 
-// The engine's own input set-up (src/mpm/kernel_inputs.hpp), at the bench's cell size.
+// The engine's own input set-up (include/shatter/mpm/kernel_inputs.hpp), at the bench's cell size.
 inline kernels::P2GParticles p2g_inputs(ParticleStore& P, bool with_force) {
   return mpm::p2g_inputs(P, 1.0 / kCell, with_force);
 }

@@ -1,4 +1,4 @@
-#include "mpm/boundaries.hpp"
+#include "shatter/mpm/boundaries.hpp"
 
 #include "shatter/parallel/exact_sum.hpp"
 

@@ -13,9 +13,9 @@
 #include <cstdint>
 #include <unordered_map>
 
-#include "mpm/boundaries.hpp"
 #include "shatter/core/config.hpp"
 #include "shatter/grid/sparse_grid.hpp"
+#include "shatter/mpm/boundaries.hpp"
 
 namespace shatter::mpm {
 

@@ -11,7 +11,6 @@
 
 #include <tbb/task_arena.h>
 
-#include "mpm/boundaries.hpp"
 #include "mpm/contact.hpp"
 #include "mpm/driven.hpp"
 #include "mpm/retake.hpp"
@@ -25,6 +24,7 @@
 #include "shatter/gravity/self_gravity.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 #include "shatter/material/material_model.hpp"
+#include "shatter/mpm/boundaries.hpp"
 #include "shatter/parallel/exact_sum.hpp"
 
 namespace shatter::mpm {

@@ -1,11 +1,11 @@
 // App. A.2 step 5a, filtered transfers: XPIC(m) (Hammerquist & Nairn 2017) and FMPM(k) (Nairn
 // & Hammerquist 2021; Nairn 2026), the extra grid-particle-grid passes of their series.
 
-#include "mpm/kernel_inputs.hpp"
 #include "mpm/loops.hpp"
 #include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
 #include "parallel/mpm/exchanges.hpp"
+#include "shatter/mpm/kernel_inputs.hpp"
 
 namespace shatter::mpm {
 namespace {

@@ -1,10 +1,10 @@
 // App. A.2 step 5: particle velocities and displacements from the grid (leapfrog), and each
 // particle's mechanical energy at t^n for the energy stage.
 
-#include "mpm/kernel_inputs.hpp"
 #include "mpm/loops.hpp"
 #include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
+#include "shatter/mpm/kernel_inputs.hpp"
 
 namespace shatter::mpm {
 namespace {

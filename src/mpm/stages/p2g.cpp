@@ -3,11 +3,11 @@
 
 #include <algorithm>
 
-#include "mpm/kernel_inputs.hpp"
 #include "mpm/loops.hpp"
 #include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
 #include "parallel/mpm/exchanges.hpp"
+#include "shatter/mpm/kernel_inputs.hpp"
 
 namespace shatter::mpm {
 namespace {

@@ -1,10 +1,10 @@
 // App. A.2 step 7a: strain and spin increments and the density update from the nodal
 // velocities (Eqs. 21, 23); APIC's C_p.
 
-#include "mpm/kernel_inputs.hpp"
 #include "mpm/loops.hpp"
 #include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
+#include "shatter/mpm/kernel_inputs.hpp"
 
 namespace shatter::mpm {
 namespace {
