@@ -25,7 +25,8 @@ bool holds_a_run(const std::filesystem::path& out) {
 void clear_run(const std::filesystem::path& out) {
   std::filesystem::remove_all(snapshot_dir(out));
   for (const char* name : {"scene.toml", "checkpoint.h5", "checkpoint.h5.tmp", "particles.xmf",
-                           "timeseries.csv", "fragments.csv", "fragments.h5", "fragments.ss"}) {
+                           "timeseries.csv", "fragments.csv", "fragments.h5", "fragments.ss",
+                           "particles_cells.h5", "fragments_bound.json"}) {
     std::filesystem::remove(out / name);
   }
   for (const auto& e : std::filesystem::directory_iterator(out)) {
@@ -110,6 +111,8 @@ int load_scene(const std::filesystem::path& scene_file, const RunOptions& option
 void log_scene(const scene::Scene& s, const std::filesystem::path& scene_file) {
   spdlog::info("scene {} ({}): {} points in {} bodies, end time {} s", s.name, scene_file.string(),
                s.particle_count(), s.bodies.size(), s.end_time);
+  // Which catalogue: a copied binary finds the one it was installed with, not the source tree's.
+  spdlog::info("  materials from {}", s.catalogue_file.string());
   for (const auto& b : s.bodies) {
     spdlog::info("  body {}: {} ({} / {}), {} points, spacing {} m", b.name, b.material.name,
                  b.material.eos, b.material.strength, b.fill.points.size(), b.spacing);

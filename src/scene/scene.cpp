@@ -10,6 +10,7 @@
 #include "scene/ranges.hpp"
 #include "shatter/io/columns.hpp"
 #include "shatter/io/suggest.hpp"
+#include "shatter/material/catalogue_path.hpp"
 
 namespace shatter::scene {
 namespace {
@@ -46,6 +47,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   scene.description = root.string("description", "-");
 
   MaterialCatalogue catalogue = MaterialCatalogue::builtin();
+  scene.catalogue_file = builtin_catalogue_path();
   if (auto file = root.optional_string("catalogue")) {
     const auto path = std::filesystem::absolute(base_dir / *file);
     // Named here: the catalogue loader would report a missing file as a TOML syntax error.
@@ -58,6 +60,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
     }
     try {
       catalogue = MaterialCatalogue::load(path);
+      scene.catalogue_file = path;
     } catch (const std::exception& e) {
       root.fail("catalogue", e.what());
     }
@@ -187,8 +190,8 @@ void read_output(Reader& root, Scene& scene) {
   o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));
   o.fragments = r.boolean("fragments", true);
   // The pkdgrav hand-off's radii (fragments.ss; docs/outputs.md, "N-body hand-off").
-  scene.fracture.search.ss_radius = ss_radius_by_name(
-      r.choice("ss_radius", "equal_volume", {"equal_volume", "packing_safe"}));
+  scene.fracture.search.ss_radius =
+      ss_radius_by_name(r.choice("ss_radius", "equal_volume", {"equal_volume", "packing_safe"}));
   // Snapshots only: checkpoints are always binary64 (a resume continues bit for bit).
   o.single_precision = r.choice("snapshot_precision", "double", {"double", "single"}) == "single";
 

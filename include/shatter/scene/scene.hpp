@@ -92,8 +92,9 @@ struct ContactPairSpec {
 struct Scene {
   std::string name;
   std::string description;
-  std::string source;              // file the scene came from (or "<text>")
-  std::filesystem::path base_dir;  // where relative file names (catalogue, meshes) are found
+  std::string source;                    // file the scene came from (or "<text>")
+  std::filesystem::path base_dir;        // where relative file names (catalogue, meshes) are found
+  std::filesystem::path catalogue_file;  // the material catalogue the bodies were read from
   SolverConfig solver;
   std::string method = "mpm";  // solver.method: "mpm" (default) or "sph"
   sph::SphConfig sph;          // [solver.sph], read when method = "sph"
