@@ -45,7 +45,8 @@ struct FragmentOptions {
   // (m/rho)^{1/3} (an SPH run's solver.sph.h_factor); and the static-strength pre-pass, Pa.
   std::optional<double> smoothing_factor;
   std::optional<double> static_strength;
-  bool ss_particles = false;  // also PREFIX_particles.ss (every point)
+  bool ss_particles = false;             // also PREFIX_particles.ss (every point)
+  std::optional<std::string> ss_radius;  // equal_volume | packing_safe (output.ss_radius)
 };
 // `shatter scene-reference`: the key tables of docs/scenes.md from the scene reader, run over
 // the scenes under `roots` (default: scenes/); printed, or written between the markers of the

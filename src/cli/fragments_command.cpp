@@ -1,5 +1,6 @@
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <system_error>
 #include <utility>
 
@@ -7,6 +8,7 @@
 
 #include "commands.hpp"
 #include "fragments_report.hpp"
+#include "shatter/fracture/fragments.hpp"
 #include "shatter/io/snapshot.hpp"
 
 namespace shatter::cli {
@@ -43,6 +45,14 @@ int fragments_command(const std::filesystem::path& snapshot, const FragmentOptio
     }
     if (!(*value > 0.0) || !std::isfinite(*value)) {
       spdlog::error("{} must be a positive number (got {})", name, *value);
+      return kBadInput;
+    }
+  }
+  if (options.ss_radius) {
+    try {
+      spec.ss_radius = ss_radius_by_name(*options.ss_radius);
+    } catch (const std::invalid_argument& e) {
+      spdlog::error("--ss-radius: {}", e.what());
       return kBadInput;
     }
   }

@@ -175,6 +175,8 @@ struct CommandLine {
         "friends_of_friends: undamaged points at this principal tension (Pa) count as failed");
     fragments->add_flag("--ss-particles", fragment_options.ss_particles,
                         "also PREFIX_particles.ss: every point, for reaccumulation");
+    fragments->add_option("--ss-radius", fragment_options.ss_radius,
+                          "radius of the .ss records: equal_volume (default) | packing_safe");
     fragments->add_flag("--quiet", quiet, "only warnings and errors");
   }
 

@@ -68,6 +68,17 @@ TEST_F(Cli, CheckPrintsPointsMemoryStepsAndRunTimeAndAgreesWithTheRun) {
   EXPECT_FALSE(fs::exists(dir_ / "out")) << "check must write nothing";
 }
 
+// Which catalogue a run reads is in its log: a copied binary uses the catalogue it was built or
+// installed with, and a scene's `catalogue = "..."` replaces it (issue 34).
+TEST_F(Cli, RunLogNamesTheMaterialCatalogueFile) {
+  const Result r = shatter({"run", kTiny.string(), "--check", "--threads", "1"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.err, m, std::regex(R"(materials from (\S+))"))) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(m[1].str())) << m[1];
+  EXPECT_EQ(fs::path(m[1].str()).filename(), "materials.toml");
+}
+
 TEST_F(Cli, RunRefusesASceneLargerThanTheMachineBeforeCreatingItsPoints) {
   // cell 40 um: ~2.7e8 points, ~440 GiB by the estimate (measured 1727 B per point), more than
   // any machine this runs on. Filling it would take minutes and then std::bad_alloc.

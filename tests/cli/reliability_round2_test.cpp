@@ -154,6 +154,23 @@ TEST_F(Reliability2, ChangedSnapshotHeaderIsRefusedByFragments) {
   EXPECT_FALSE(fs::exists(dir_ / "g.csv"));
 }
 
+// `shatter fragments --ss-radius` (issue 34): the pkdgrav radius is chosen after the run too; a
+// misspelt choice is refused naming the option and writes nothing.
+TEST_F(Reliability2, FragmentsSsRadiusIsChosenOrRefused) {
+  run(dir_ / "run", "0.5e-6");
+  const fs::path snap = dir_ / "run" / "snapshots" / "snapshot_000001.h5";
+  const Result bad = shatter(
+      {"fragments", snap.string(), "--prefix", (dir_ / "b").string(), "--ss-radius", "tight"});
+  EXPECT_EQ(bad.code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("--ss-radius"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir_ / "b.ss"));
+  const Result ok = shatter({"fragments", snap.string(), "--prefix", (dir_ / "p").string(),
+                             "--ss-radius", "packing_safe"});
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_NE(ok.err.find("packing-safe radii"), std::string::npos) << ok.err;
+  EXPECT_TRUE(fs::exists(dir_ / "p.ss"));
+}
+
 TEST_F(Reliability2, CheckpointFormatVersionChangedIsRefused) {
   // format_version 2 -> 1 resumed without verification, exit 0.
   run(dir_ / "run", "0.5e-6");
