@@ -29,23 +29,9 @@ const std::vector<std::string> kDefaultColumns = {"x",        "y",
                                                   "syz",      "sxz",
                                                   "id",       "body"};
 
-Scene parse(toml::table doc, const std::string& source, const std::vector<std::string>& overrides,
-            const std::filesystem::path& base_dir, Points points) {
-  for (const auto& o : overrides) apply_override(doc, o);
-
-  Scene scene;
-  scene.source = source;
-  scene.base_dir = base_dir;
-  Reader root(doc, "", source);
-  root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact", "fracture",
-              "output", "gravity"});
-  root.reject_unknown();
-  scene.name = root.string("name", std::filesystem::path(source).stem().string());
-  root.note_default("name", "the file name without .toml");
-  root.note_default("body", "*required*");
-  root.note_type("body", "table of [body.NAME] tables");
-  scene.description = root.string("description", "-");
-
+// The shipped catalogue, or the scene's `catalogue = "file.toml"` (relative to the scene).
+MaterialCatalogue read_catalogue(Reader& root, toml::table& doc,
+                                 const std::filesystem::path& base_dir, Scene& scene) {
   MaterialCatalogue catalogue = MaterialCatalogue::builtin();
   scene.catalogue_file = builtin_catalogue_path();
   if (auto file = root.optional_string("catalogue")) {
@@ -67,6 +53,27 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
     // Absolute in the resolved scene, so a resumed run finds it from anywhere.
     doc.insert_or_assign("catalogue", path.string());
   }
+  return catalogue;
+}
+
+Scene parse(toml::table doc, const std::string& source, const std::vector<std::string>& overrides,
+            const std::filesystem::path& base_dir, Points points) {
+  for (const auto& o : overrides) apply_override(doc, o);
+
+  Scene scene;
+  scene.source = source;
+  scene.base_dir = base_dir;
+  Reader root(doc, "", source);
+  root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact", "fracture",
+              "output", "gravity"});
+  root.reject_unknown();
+  scene.name = root.string("name", std::filesystem::path(source).stem().string());
+  root.note_default("name", "the file name without .toml");
+  root.note_default("body", "*required*");
+  root.note_type("body", "table of [body.NAME] tables");
+  scene.description = root.string("description", "-");
+
+  const MaterialCatalogue catalogue = read_catalogue(root, doc, base_dir, scene);
 
   read_solver(root, scene);
   read_domain(root, scene);
