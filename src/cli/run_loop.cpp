@@ -125,7 +125,7 @@ class Runner {
             on_end(cursor_.next_checkpoint_time, scene_.output.checkpoint_every);
       }
     } else {
-      if (root_) timeseries_.emplace(spec_.out / "timeseries.csv");
+      if (root_) timeseries_.emplace(spec_.out / "timeseries.csv", porous());
       cursor_.next_snapshot = 0;
       cursor_.next_snapshot_time = 0.0;
       cursor_.next_checkpoint_time =
@@ -184,7 +184,7 @@ class Runner {
   // rows it covers are lost and the spec does not accept the gap.
   bool resume_timeseries() {
     try {
-      timeseries_.emplace(spec_.out / "timeseries.csv", spec_.rows);
+      timeseries_.emplace(spec_.out / "timeseries.csv", spec_.rows, porous());
     } catch (const io::TimeSeriesGap& e) {
       spdlog::error("{}", e.what());
       if (dist_) comm_.abort(kBadInput);
@@ -354,9 +354,35 @@ class Runner {
       r.momentum = io::total_momentum(sim_.particles());
       r.failure_ratio = failure_ratio();
     }
+    if (porous()) r.mean_porosity = mean_porosity();
     r.wall = seconds_since_start();
     if (root_) timeseries_->write(r);
   }
+
+  // The time series' mean porosity (issue 29): exact sums, added over the ranks as the momentum
+  // above, so the same bits on any rank count.
+  double mean_porosity() {
+    auto phi = io::porosity_sums(sim_.particles());
+    if (dist_) {
+      constexpr int L = parallel::ExactSum::kLimbs;
+      std::vector<std::int64_t> limbs(2 * L);
+      for (std::size_t k = 0; k < 2; ++k) {
+        phi[k].normalise();
+        std::copy(phi[k].limbs().begin(), phi[k].limbs().end(),
+                  limbs.begin() + static_cast<long>(k) * L);
+      }
+      comm_.sum(limbs);
+      for (std::size_t k = 0; k < 2; ++k) {
+        std::copy(limbs.begin() + static_cast<long>(k) * L,
+                  limbs.begin() + static_cast<long>(k + 1) * L, phi[k].limbs().begin());
+      }
+    }
+    return io::mean_porosity(phi);
+  }
+
+  // A porous material is in the scene (its distension column, issue 29): the time series then
+  // has mean_porosity.
+  bool porous() const { return sim_.particles().has(Field::distension); }
 
   void progress() {
     const auto now = Clock::now();

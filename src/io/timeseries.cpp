@@ -19,7 +19,7 @@ namespace {
 constexpr std::string_view kHeader =
     "step,time_s,dt_s,kinetic_J,internal_J,potential_J,total_J,boundary_work_J,outflow_J,"
     "energy_error,px_kg_m_per_s,py_kg_m_per_s,pz_kg_m_per_s,failure_ratio,unresolved_kinetic_J,"
-    "unresolved_kinetic_fraction,gravitational_J,wall_s";
+    "unresolved_kinetic_fraction,gravitational_J,";
 
 std::ofstream open_for_writing(const std::filesystem::path& file, std::ios::openmode mode) {
   std::ofstream out(file, mode);
@@ -29,13 +29,16 @@ std::ofstream open_for_writing(const std::filesystem::path& file, std::ios::open
 
 }  // namespace
 
-std::string_view timeseries_header() {
-  return kHeader;
+std::string timeseries_header(bool porous) {
+  return std::string(kHeader) + (porous ? "mean_porosity,wall_s" : "wall_s");
 }
 
-TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file)
-    : file_(file), out_(open_for_writing(file, std::ios::trunc)) {
-  out_ << kHeader << '\n';
+TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, bool porous)
+    : file_(file),
+      porous_(porous),
+      header_(timeseries_header(porous)),
+      out_(open_for_writing(file, std::ios::trunc)) {
+  out_ << header_ << '\n';
 }
 
 namespace {
@@ -43,9 +46,10 @@ namespace {
 // Byte length of the complete rows (newline-terminated, every column, a step number) with
 // steps up to and including `through`, after the header; and the last such row's step.
 std::pair<std::size_t, std::optional<std::uint64_t>> rows_through(const std::string& text,
-                                                                  std::size_t from,
+                                                                  const std::string& header,
                                                                   std::uint64_t through) {
-  const auto columns = static_cast<std::size_t>(std::count(kHeader.begin(), kHeader.end(), ','));
+  const auto columns = static_cast<std::size_t>(std::count(header.begin(), header.end(), ','));
+  const std::size_t from = header.size() + 1;
   std::size_t keep = from;
   std::optional<std::uint64_t> last;
   for (std::size_t pos = keep; pos < text.size();) {
@@ -66,15 +70,16 @@ std::pair<std::size_t, std::optional<std::uint64_t>> rows_through(const std::str
 
 }  // namespace
 
-TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume)
-    : file_(file) {
+TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume,
+                                   bool porous)
+    : file_(file), porous_(porous), header_(timeseries_header(porous)) {
   std::string text;
   if (std::ifstream in(file, std::ios::binary); in) {
     std::stringstream ss;
     ss << in.rdbuf();
     text = ss.str();
   }
-  const std::string header = std::string(kHeader) + '\n';
+  const std::string header = header_ + '\n';
   const bool has_header = text.rfind(header, 0) == 0;
   if (!has_header && header.rfind(text, 0) != 0) {
     // Not this program's time series (another header): refuse rather than destroy its rows.
@@ -86,7 +91,7 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, const Resu
   // row the dead run wrote after that, or tore while writing, goes; the resumed run writes it
   // again, byte for byte.
   const auto [keep, last] =
-      has_header ? rows_through(text, header.size(), resume.through_step)
+      has_header ? rows_through(text, header_, resume.through_step)
                  : std::pair<std::size_t, std::optional<std::uint64_t>>{0, std::nullopt};
   if (last != resume.through_step) {
     const std::string lost =
@@ -135,10 +140,35 @@ void TimeSeriesWriter::write(const TimeSeriesRow& r) {
   const EnergyBudget& e = r.energy;
   out_ << fmt::format(
       "{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.9g},"
-      "{:.17g},{:.17g},{:.17g},{:.9g},{:.17g},{:.9g},{:.17g},{:.3f}\n",
+      "{:.17g},{:.17g},{:.17g},{:.9g},{:.17g},{:.9g},{:.17g},",
       r.step, r.time, r.dt, e.kinetic, e.internal, e.potential, e.total(), e.boundary_work,
       e.outflow, e.error(), r.momentum.x(), r.momentum.y(), r.momentum.z(), r.failure_ratio,
-      e.unresolved_kinetic, e.unresolved_fraction(), e.gravitational, r.wall);
+      e.unresolved_kinetic, e.unresolved_fraction(), e.gravitational);
+  if (porous_) out_ << fmt::format("{:.17g},", r.mean_porosity);
+  out_ << fmt::format("{:.3f}\n", r.wall);
+}
+
+std::array<parallel::ExactSum, 2> porosity_sums(const ParticleStore& store) {
+  std::array<parallel::ExactSum, 2> s;
+  if (!store.has(Field::distension)) return s;
+  const auto m = store.col(Field::mass);
+  const auto alpha = store.col(Field::distension);
+  for (std::size_t i = 0; i < store.size(); ++i) {
+    if (!(alpha[i] >= 1.0)) continue;  // a point of a dense material
+    s[0].add(m[i] * (1.0 - 1.0 / alpha[i]));
+    s[1].add(m[i]);
+  }
+  return s;
+}
+
+double mean_porosity(std::array<parallel::ExactSum, 2>& sums) {
+  const double mass = sums[1].value();
+  return mass > 0.0 ? sums[0].value() / mass : 0.0;
+}
+
+double mean_porosity(const ParticleStore& store) {
+  auto s = porosity_sums(store);
+  return mean_porosity(s);
 }
 
 std::array<parallel::ExactSum, 3> momentum_sums(const ParticleStore& store) {

@@ -206,9 +206,16 @@ void read_output(Reader& root, Scene& scene) {
   const toml::node* c = r.table().get("columns");
   r.note_default("columns",
                  "`\"default\"` (positions, velocities, mass, volume0, rho, energy, pressure, "
-                 "damage, plastic_strain, stress, id, body)");
+                 "peak_pressure, damage, plastic_strain, stress, id, body; distension when a "
+                 "body is porous)");
   if (c == nullptr || (c->is_string() && c->as_string()->get() == "default")) {
     o.columns = kDefaultColumns;
+    // A porous body's compaction state (issue 29): the distension alpha = rho_s / rho, from which
+    // the porosity is 1 - 1/alpha (docs/outputs.md). Only then: a dense scene has no such column.
+    if (std::any_of(scene.bodies.begin(), scene.bodies.end(),
+                    [](const BodySpec& b) { return !b.material.porosity.empty(); })) {
+      o.columns.emplace_back("distension");
+    }
     if (c == nullptr) r.table().insert("columns", "default");
   } else if (c->is_string() && c->as_string()->get() == "all") {
     o.columns.clear();

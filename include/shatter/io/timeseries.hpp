@@ -25,11 +25,15 @@ struct TimeSeriesRow {
   EnergyBudget energy;
   Eigen::Vector3d momentum = Eigen::Vector3d::Zero();  // kg m/s
   double failure_ratio = 0.0;  // fraction of damage-carrying points with D >= threshold
-  double wall = 0.0;           // s since the run (or resume) started
+  // Mass-weighted mean porosity 1 - 1/alpha of the porous points (issue 29): written only by a
+  // writer made with porous = true (a scene with a porous material), as `mean_porosity`.
+  double mean_porosity = 0.0;
+  double wall = 0.0;  // s since the run (or resume) started
 };
 
-// The CSV header line (without newline).
-std::string_view timeseries_header();
+// The CSV header line (without newline). With porous = true it has `mean_porosity` before
+// `wall_s`.
+std::string timeseries_header(bool porous = false);
 
 // How a resumed run takes over the time series of the run it continues.
 struct ResumeRows {
@@ -51,12 +55,15 @@ struct TimeSeriesGap : std::runtime_error {
 class TimeSeriesWriter {
  public:
   // Starts a new file.
-  explicit TimeSeriesWriter(const std::filesystem::path& file);
+  // porous: the scene has a porous material (ParticleStore::has(Field::distension)); the rows
+  // then carry mean_porosity.
+  explicit TimeSeriesWriter(const std::filesystem::path& file, bool porous = false);
   // Resumes: keeps the complete rows of an existing file up to and including
   // `resume.through_step` and cuts the file after them (rows written after the checkpoint by a
   // run that then died, or a row torn by the crash, are dropped; the resumed run writes them
   // again), then appends.
-  TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume);
+  TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume,
+                   bool porous = false);
 
   // What a resume accepted (the rows missing), empty otherwise.
   const std::string& note() const { return note_; }
@@ -69,9 +76,20 @@ class TimeSeriesWriter {
 
  private:
   std::filesystem::path file_;
+  bool porous_ = false;
+  std::string header_;
   std::ofstream out_;
   std::string note_;
 };
+
+// The porous points' sum m (1 - 1/alpha) and their mass sum m, exact (as momentum_sums): the
+// points with a distension alpha >= 1, i.e. those of porous materials (the kernel sets alpha0 at
+// initialise; the column is zero-filled for every other point). Their ratio is the row's
+// mean_porosity; summed over the ranks first when distributed.
+std::array<parallel::ExactSum, 2> porosity_sums(const ParticleStore& store);
+// The ratio of porosity_sums, 0 without porous points.
+double mean_porosity(const ParticleStore& store);
+double mean_porosity(std::array<parallel::ExactSum, 2>& sums);
 
 // Sum of m v over all particles (kg m/s).
 // Sum of m v, exact (parallel::ExactSum): the same bits in any particle order, so a gathered
