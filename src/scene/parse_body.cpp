@@ -17,8 +17,8 @@ namespace {
 const std::vector<std::string> kShapeKinds = {"sphere",   "ellipsoid", "box",
                                               "cylinder", "mesh",      "union"};
 const std::vector<std::string> kBodyKeys = {
-    "shape",  "material", "velocity", "spacing",          "points_per_cell",
-    "energy", "mass",     "damage",   "lattice_rotation", "driven"};
+    "shape", "material", "velocity",         "spacing", "points_per_cell", "energy",
+    "mass",  "damage",   "lattice_rotation", "driven",  "porosity"};
 const std::vector<std::string> kMaterialModelKeys = {"eos", "strength"};
 
 std::vector<std::string> shape_keys(const std::string& kind) {
@@ -277,6 +277,34 @@ void check_point_count(Reader& r, const BodySpec& b) {
   }
 }
 
+// body.porosity: the body's initial porosity phi = 1 - 1/alpha0 (issue 29), in place of the
+// porous material's alpha0, so one catalogue material serves targets of any porosity, as iSALE's
+// per-object initial porosity (OBJPOR) does; the bulk density is then rho_s (1 - phi) and the
+// crush curve starts at alpha0 = 1 / (1 - phi) (W06 Eqs. 8-10; JBM08 Eq. 8). Porosity rather
+// than distension: it is what the sources and the asteroid literature quote (rubble piles "20-60%
+// porous").
+void read_porosity(Reader& r, BodySpec& b) {
+  r.note_range("porosity", "[0, 0.99]; a porous material only; sets alpha0 = 1 / (1 - porosity)");
+  r.note_default("porosity", "the material's alpha0");
+  const auto phi = r.optional_number("porosity");
+  if (!phi) return;
+  if (b.material.porosity.empty()) {
+    r.fail("porosity", fmt::format("material '{}' is not porous (it has no compaction model): "
+                                   "use a porous material (e.g. porous_basalt, regolith) or "
+                                   "remove the key",
+                                   b.material.name));
+  }
+  if (!(*phi >= 0.0 && *phi <= 0.99)) {
+    r.fail("porosity",
+           fmt::format("must be in [0, 0.99] (the pore volume fraction; got {})", *phi));
+  }
+  const toml::node* m = r.table().get("material");
+  if (m != nullptr && m->is_table() && m->as_table()->contains("alpha0")) {
+    r.fail("porosity", "is given with the material's alpha0 override: give one of them");
+  }
+  b.material.params["alpha0"] = 1.0 / (1.0 - *phi);
+}
+
 // body.mass (sets rho0), then the material's own checks, each refusal naming the key it concerns.
 void read_mass_and_validate(Reader& r, BodySpec& b) {
   // Mass given: the density changes, the volume stays (MPM paper Table 2, projectile mass).
@@ -350,6 +378,7 @@ BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
   b.where = r.where("shape");
   b.shape = read_shape(r, placed_by_impact, scene.base_dir);
   b.material = read_material(r, catalogue);
+  read_porosity(r, b);
   read_motion(r, b, placed_by_impact);
   read_spacing(r, b, scene);
   // The point lattice turned off the grid's axes about the origin (MPM paper Sec. 4.1.1 aligns
