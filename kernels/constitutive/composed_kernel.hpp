@@ -144,11 +144,14 @@ class ComposedKernel {
   // and damage (Eq. 14). No increments are read.
   void initialise(const ConstitutiveColumns& c, std::size_t begin, std::size_t end) const {
     for (std::size_t p = begin; p < end; ++p) {
+      const auto e = initial_eos(c, p);  // first: it sets a new point's distension
+      const double alpha = Porosity::kEnabled ? c.distension[p] : 1.0;
       double s[6];
       load_deviator<double>(c, p, s);
+      if constexpr (!Damage::kEnabled) to_matrix(s, alpha);
       const double rho = c.rho[p];
-      const auto e = initial_eos(c, p);
-      const double D = simd::load_or<double>(ptr(c.damage_state[0], p), 0.0);
+      double D = simd::load_or<double>(ptr(c.damage_state[0], p), 0.0);
+      if constexpr (Porosity::kEnabled) D = with_compaction(D, porosity_.compaction_damage(alpha));
       if constexpr (!Strength::kHasShear) {
         for (auto& x : s) x = 0.0;
       }
@@ -158,7 +161,7 @@ class ComposedKernel {
       const strength::PlasticState<double> ps{
           e.p, 0.0, simd::load_or<double>(ptr(c.heat, p), 0.0), D, rho, c.energy[p], 0.0};
       double sig[6];
-      effective_stress(s, e.p, 0.0, D, deviator_factor(D), sig);
+      effective_stress(s, e.p, 0.0, D, deviator_factor(D) * porous_deviator_factor(alpha), sig);
       for (int k = 0; k < 6; ++k) c.stress[k][p] = sig[k];
       c.pressure[p] = e.p;
       c.soundspeed[p] = longitudinal_speed(e.c2, rho, shear_fraction(D, e.p, ps));
@@ -211,6 +214,7 @@ class ComposedKernel {
   struct Point {
     T rho, rho_old, tr, e_old, e_trial, w_old, d_old;
     T alpha = T(1.0);  // distension (porosity stage; 1 without porosity)
+    T d_c = T(0.0);    // compaction damage D_c(alpha) (kernels/porosity; 0 when off)
     T de[6], w[3], sig_old[6];
     T s[6];                                                      // undamaged deviator
     T sb[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};  // borne (incremental)
@@ -267,6 +271,9 @@ class ComposedKernel {
     for (int k = 0; k < 3; ++k) pt.w[k] = load_col<T>(c.dspin[k] + p);
     for (int k = 0; k < 6; ++k) pt.sig_old[k] = load_col<T>(c.stress[k] + p);
     load_deviator<T>(c, p, pt.s);
+    if constexpr (Porosity::kEnabled && !Damage::kEnabled) {
+      to_matrix(pt.s, simd::load_col<T>(c.distension + p));
+    }
     pt.d_old = simd::load_or<T>(ptr(c.damage_state[0], p), 0.0);
 
     // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37). With incremental coupling the
@@ -278,6 +285,7 @@ class ComposedKernel {
       if (incremental()) {
         const T m = (pt.sig_old[0] + pt.sig_old[1] + pt.sig_old[2]) * (1.0 / 3.0);
         for (int k = 0; k < 6; ++k) pt.sb[k] = k < 3 ? pt.sig_old[k] - m : pt.sig_old[k];
+        if constexpr (Porosity::kEnabled) to_matrix(pt.sb, simd::load_col<T>(c.distension + p));
         strength::jaumann_trial(pt.sb, pt.de, pt.w, T(strength_.elastic.G) * (1.0 - pt.d_old));
       }
     }
@@ -301,6 +309,7 @@ class ComposedKernel {
       const T a_old = simd::load_col<T>(c.distension + p);
       pt.alpha = porosity_.compact(eos_, pt.rho, pt.rho_old, pt.e_trial, a_old);
       simd::store_col(c.distension + p, pt.alpha);
+      if constexpr (Damage::kEnabled) pt.d_c = porosity_.compaction_damage(pt.alpha);
       return porosity_.bulk(eos_, pt.rho, pt.e_trial, pt.alpha);
     } else {
       (void)c;
@@ -316,7 +325,7 @@ class ComposedKernel {
     strength::PlasticState<T> ps{st_eos.p,
                                  simd::load_or<T>(ptr(c.plastic_strain, p), 0.0),
                                  simd::load_or<T>(ptr(c.heat, p), 0.0),
-                                 pt.d_old,
+                                 with_compaction(pt.d_old, pt.d_c),
                                  pt.rho,
                                  pt.e_trial,
                                  T(0.0)};
@@ -375,12 +384,15 @@ class ComposedKernel {
   template <class T>
   void stress_stage(const ConstitutiveColumns& c, std::size_t p, const Point<T>& pt, const T& pres,
                     const T& q, const T& dmg) const {
-    const T d_sig = Damage::kEnabled && coupling_ == DamageCoupling::lagged ? pt.d_old : dmg;
+    const T d_sig = with_compaction(
+        Damage::kEnabled && coupling_ == DamageCoupling::lagged ? pt.d_old : dmg, pt.d_c);
+    // the bulk deviator from the matrix's (kernels/porosity: S = S_s / alpha when on)
+    const T f_por = porous_deviator_factor(pt.alpha);
     T sig[6];
     if (Strength::kHasShear && incremental()) {
-      effective_stress(pt.sb, pres, q, d_sig, T(1.0), sig);
+      effective_stress(pt.sb, pres, q, d_sig, f_por, sig);
     } else {
-      effective_stress(pt.s, pres, q, d_sig, deviator_factor(d_sig), sig);
+      effective_stress(pt.s, pres, q, d_sig, deviator_factor(d_sig) * f_por, sig);
     }
     for (int k = 0; k < 6; ++k) simd::store_col(c.stress[k] + p, sig[k]);
     const T w_new = double_contraction(pt.de, sig);
@@ -388,6 +400,38 @@ class ComposedKernel {
   }
 
   bool incremental() const { return Damage::kEnabled && coupling_ == DamageCoupling::incremental; }
+
+  // Porosity's degradation of the bulk (kernels/porosity/porosity.hpp): the factor on the matrix
+  // deviator (1 / alpha or 1) and the damage D = min(1, D_t + D_c) (miluphcuda's damage_total).
+  template <class T>
+  T porous_deviator_factor(const T& alpha) const {
+    if constexpr (Porosity::kEnabled) {
+      return porosity_.deviator_factor(alpha);
+    } else {
+      (void)alpha;
+      return T(1.0);
+    }
+  }
+  // The matrix deviator of a bulk deviator that the stress columns hold at distension alpha:
+  // s / factor(alpha) (an exact no-op when the scaling is off: a division by 1).
+  template <class T>
+  void to_matrix(T (&s)[6], const T& alpha) const {
+    if constexpr (Porosity::kEnabled) {
+      const T f = porosity_.deviator_factor(alpha);
+      for (auto& x : s) x = x / f;
+    } else {
+      (void)s, (void)alpha;
+    }
+  }
+  template <class T>
+  static T with_compaction(const T& d, const T& d_c) {
+    if constexpr (Porosity::kEnabled && Damage::kEnabled) {
+      return simd::vmin(d + d_c, T(1.0));
+    } else {
+      (void)d_c;
+      return d;
+    }
+  }
   static double* ptr(double* base, std::size_t p) { return base != nullptr ? base + p : nullptr; }
   static const double* ptr(const double* base, std::size_t p) {
     return base != nullptr ? base + p : nullptr;

@@ -23,6 +23,24 @@
 //
 // The compaction work needs no term of its own: the kernel's energy update is the p dV work of
 // the bulk stress on the bulk volume change, which includes the work of closing the pores.
+//
+// Strength and damage of the porous bulk (issue 29), per material, each a switch (0 or 1) of the
+// porosity table with the default of the model's source:
+//   deviator_scaling:  the bulk deviator is the matrix's over alpha, S = S_s / alpha, as the bulk
+//                      pressure is p_s / alpha: JBM08's porous stress (their SPH code's form,
+//                      miluphcuda STRESS_PALPHA_POROSITY, src/internal_forces.cu, integrates
+//                      d(S_s / alpha)/dt). The matrix deviator S_s is what the strength model
+//                      integrates and returns to its yield surface, so the bulk carries at most
+//                      Y / alpha. Default 1 for p_alpha (JBM08); 0 for eps_alpha, whose sources
+//                      (W06, CMW11) scale no deviator with distension.
+//   compaction_damage: crushing the pores damages the matrix (JBM08; miluphcuda
+//                      src/internal_forces.cu, PALPHA_POROSITY: d(D_c^(1/3)) follows d alpha),
+//                      D_c(alpha) below, added to the tensile damage in the effective stress,
+//                      D = min(1, D_t + D_c) (miluphcuda src/damage.cu, damage_total). Only with a
+//                      damage model. Default as deviator_scaling.
+// (JBM08's equation numbers for these two are not cited: the paper was not at hand; the forms
+// are read from miluphcuda's code, which implements JBM08, and the test checks our closed form
+// against its rate: tests/unit/materials/porosity_degradation_test.cpp.)
 
 #include "constitutive/simd.hpp"
 #include "eos/eos_common.hpp"
@@ -61,6 +79,36 @@ class Porous {
     m.pa_ = q;
     return m;
   }
+
+  // The strength and damage switches above (validated by the material library).
+  void set_degradation(bool deviator_scaling, bool compaction_damage) {
+    deviator_scaling_ = deviator_scaling;
+    compaction_damage_ = compaction_damage;
+  }
+  bool deviator_scaling() const { return deviator_scaling_; }
+  bool compaction_damage() const { return compaction_damage_; }
+
+  // The factor on the matrix deviator in the bulk stress: 1 / alpha (JBM08), or 1.
+  template <class T>
+  T deviator_factor(const T& alpha) const {
+    return deviator_scaling_ ? T(1.0) / alpha : T(1.0);
+  }
+
+  // Compaction damage at distension alpha (0 when off). JBM08's damage of compaction in the
+  // integrated form of miluphcuda's rate (src/internal_forces.cu): with r = (alpha0 - alpha) /
+  // (alpha0 - 1) the compacted fraction and delta = 0.01 (its `deld`, which keeps the rate of
+  // D^(1/3) finite at r = 0),
+  //   D_c^(1/3) = ((r + delta)^(1/3) - delta^(1/3)) / ((1 + delta)^(1/3) - delta^(1/3)),
+  // 0 before compaction (alpha = alpha0) and 1 when the pores are closed (alpha = 1).
+  template <class T>
+  T compaction_damage(const T& alpha) const {
+    if (!compaction_damage_ || !(alpha0_ > 1.0)) return T(0.0);
+    const T r = simd::vmin(simd::vmax((alpha0_ - alpha) * inv_alpha0_m1_, T(0.0)), T(1.0));
+    const T d = (cbrt(r + kDamageDelta) - cbrt(T(kDamageDelta))) /
+                (cbrt(T(1.0 + kDamageDelta)) - cbrt(T(kDamageDelta)));
+    return d * d * d;
+  }
+  static constexpr double kDamageDelta = 0.01;
 
   Model model() const { return model_; }
   double alpha0() const { return alpha0_; }
@@ -138,7 +186,15 @@ class Porous {
     return simd::vselect(need, lo, alpha_old);
   }
 
+  // x^(1/3) for x > 0
+  template <class T>
+  static T cbrt(const T& x) {
+    return simd::vexp(simd::vlog(x) * (1.0 / 3.0));
+  }
+
   Model model_;
+  bool deviator_scaling_ = false;
+  bool compaction_damage_ = false;
   double alpha0_;
   double inv_alpha0_m1_;  // 1 / (alpha0 - 1), 0 for alpha0 = 1
   EpsAlphaParams ea_{};

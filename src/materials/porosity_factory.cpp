@@ -24,10 +24,21 @@ void require(const MaterialSpec& spec, std::string_view key, bool ok, const char
   if (!ok) fail(spec, key, why);
 }
 
+// The sources' defaults of the strength and damage switches (kernels/porosity/porosity.hpp):
+// JBM08 scales the deviator and damages the matrix on compaction with P-alpha; W06 and CMW11
+// (eps-alpha) do neither.
+double degradation_default(const MaterialSpec& s) {
+  return s.porosity == "p_alpha" ? 1.0 : 0.0;
+}
+
 }  // namespace
 
 void check_porosity(const MaterialSpec& spec) {
   if (spec.porosity.empty()) return;
+  for (const char* k : {"deviator_scaling", "compaction_damage"}) {
+    const double v = opt(spec, k, degradation_default(spec));
+    if (v != 0.0 && v != 1.0) require(spec, k, false, "must be 0 (off) or 1 (on)");
+  }
   const double a0 = spec.get("alpha0");
   require(spec, "alpha0", a0 >= 1.0 && a0 <= 100.0,
           "must be in [1, 100] (distension rho_s / rho: 1 is solid, 100 is 99% porosity)");
@@ -56,6 +67,13 @@ void check_porosity(const MaterialSpec& spec) {
 }
 
 porosity::Porous make_porosity(const MaterialSpec& s) {
+  porosity::Porous m = make_crush(s);
+  const double d = degradation_default(s);
+  m.set_degradation(opt(s, "deviator_scaling", d) == 1.0, opt(s, "compaction_damage", d) == 1.0);
+  return m;
+}
+
+porosity::Porous make_crush(const MaterialSpec& s) {
   if (s.porosity == "eps_alpha") {
     porosity::EpsAlphaParams q;
     q.alpha0 = s.get("alpha0");

@@ -39,8 +39,14 @@ const std::vector<ModelSchema>& porosity_schemas() {
   // eps_alpha: Wuennemann et al. 2006 with Collins et al. 2011's chi; p_alpha: Jutzi et al. 2008
   // (kernels/porosity/crush.hpp).
   static const std::vector<ModelSchema> k = {
-      {"eps_alpha", {"alpha0", "eps_e", "kappa", "eps_x"}, {"chi"}},
-      {"p_alpha", {"alpha0", "p_e", "p_s"}, {"crush_exponent", "c_e"}},
+      // deviator_scaling, compaction_damage: the porous bulk's strength and damage
+      // (kernels/porosity/porosity.hpp), switches 0 / 1.
+      {"eps_alpha",
+       {"alpha0", "eps_e", "kappa", "eps_x"},
+       {"chi", "deviator_scaling", "compaction_damage"}},
+      {"p_alpha",
+       {"alpha0", "p_e", "p_s"},
+       {"crush_exponent", "c_e", "deviator_scaling", "compaction_damage"}},
   };
   return k;
 }
