@@ -161,6 +161,48 @@ TEST(PorousStrength, BulkDeviatorIsTheMatrixsOverAlpha) {
   }
 }
 
+// Compaction damage through the update: a P-alpha von Mises material with a Grady-Kipp damage
+// model whose points have no flaws (the tensile damage D_t stays 0) is compacted under uniaxial
+// strain with some shear; the borne shear stress must be the matrix deviator (the sdev column)
+// times (1 - D_c(alpha)) / alpha (Eq. 14 with D = min(1, D_t + D_c), lagged coupling: D_t^n = 0).
+TEST(PorousDamage, CompactionDamageReachesTheStress) {
+  auto spec = porous_von_mises("p_alpha", 1.5);
+  spec.params["p_e"] = 1e6;
+  spec.params["p_s"] = 5e8;
+  const auto m = make_material(spec, DamageSpec{"grady_kipp", {}, ""});
+  const Porous por = materials::make_porosity(spec);
+  const std::size_t n = 2 * simd::kWidth + 3;
+  ParticleStore s;
+  s.require(kEngine);
+  s.require(m->fields());
+  s.add_group(0, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    s.col(Field::rho)[i] = m->reference_density();
+    s.col(Field::mass)[i] = 1e-3;
+  }
+  m->initialise(s, {0, n});
+  for (int k = 0; k < 40; ++k) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double dxx = -2e-3 * (1.0 + 0.05 * static_cast<double>(i));
+      s.col(Field::deps_xx)[i] = dxx;
+      s.col(Field::deps_xy)[i] = 2e-5;
+      s.col(Field::rho)[i] /= 1.0 + dxx;
+    }
+    m->update(s, {0, n}, {1e-7, 1e-3, {0.0, 0.0}});
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = s.col(Field::distension)[i];
+    ASSERT_LT(a, 1.4) << i;  // compacted: D_c well above 0
+    const double dc = por.compaction_damage(a);
+    EXPECT_GT(dc, 0.05) << i;
+    EXPECT_EQ(s.col(Field::damage)[i], 0.0) << i;  // the column keeps the tensile damage
+    const double want = (1.0 - dc) * (1.0 / a) * s.col(Field::sdev_xy)[i];
+    // 1e-12 relative: the kernel's own products, in another order at most
+    EXPECT_NEAR(s.col(Field::sxy)[i], want, 1e-12 * std::abs(want)) << i;
+    EXPECT_NE(s.col(Field::sdev_xy)[i], 0.0) << i;
+  }
+}
+
 TEST(PorousStrength, SwitchOtherThanZeroOrOneIsRefusedWithKeyAndLine) {
   const auto path = std::filesystem::temp_directory_path() / "shatter_porosity_switch.toml";
   std::ofstream(path) << "[p]\nsource = \"t\"\neos = \"ideal_gas\"\nstrength = \"hydro\"\n"
