@@ -12,7 +12,6 @@
 
 #include "io/h5.hpp"
 #include "io/particles_h5.hpp"
-#include "shatter/io/atomic_file.hpp"
 
 namespace shatter::io {
 namespace {
@@ -137,40 +136,30 @@ std::uint64_t checked_version(hid_t f, const std::filesystem::path& file) {
 void write_checkpoint(const std::filesystem::path& file, const ParticleStore& store,
                       const RunState& state, const CheckpointProgress& progress) {
   h5::QuietErrors quiet;
-  const auto tmp = temporary_for(file);
-  try {
-    h5::Handle f = h5::create_file(tmp);
-    h5::set_attr(f.get(), "format", kFormat);
-    h5::set_attr(f.get(), "format_version", kFormatVersion);
-    h5::set_attr(f.get(), "program_version", state.program_version);
-    h5::set_attr(f.get(), "checksums",
+  h5::write_file_atomically(file, [&](hid_t f) {
+    h5::set_attr(f, "format", kFormat);
+    h5::set_attr(f, "format_version", kFormatVersion);
+    h5::set_attr(f, "program_version", state.program_version);
+    h5::set_attr(f, "checksums",
                  std::string_view("crc32 (zlib) of each dataset's values in its attribute "
                                   "crc32; state_crc32 covers clock, energy and output"));
     // A dataset, not an attribute: attributes are limited to 64 KiB in the default format.
-    h5::write_text(f.get(), "scene", state.scene_text);
-    write_clock(f.get(), state.clock);
-    write_energy(f.get(), state.energy);
-    write_cursor(f.get(), state.cursor);
+    h5::write_text(f, "scene", state.scene_text);
+    write_clock(f, state.clock);
+    write_energy(f, state.energy);
+    write_cursor(f, state.cursor);
     {
-      h5::Handle g = h5::open_group(f.get(), "clock");
+      h5::Handle g = h5::open_group(f, "clock");
       h5::set_attr(g.get(), "dt_first", state.dt_first);
-      h5::Handle e = h5::open_group(f.get(), "energy");
+      h5::Handle e = h5::open_group(f, "energy");
       h5::set_attr(e.get(), "internal_next", state.internal_next);
     }
     const auto bytes = state_bytes(state);
-    h5::set_attr(f.get(), "state_crc32", h5::checksum(bytes.data(), bytes.size()));
-    h5::seal_attrs(f.get(), kRootAttrs);
+    h5::set_attr(f, "state_crc32", h5::checksum(bytes.data(), bytes.size()));
+    h5::seal_attrs(f, kRootAttrs);
     if (progress) progress("state");
-    write_particles(f.get(), store, all_columns(store), progress);
-    if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
-      throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
-    }
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw;
-  }
-  commit(tmp, file);
+    write_particles(f, store, all_columns(store), progress);
+  });
 }
 
 Checkpoint read_checkpoint(const std::filesystem::path& file) {
