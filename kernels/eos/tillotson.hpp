@@ -36,19 +36,10 @@ enum class TillotsonRegion : std::uint8_t {
 };
 
 inline const char* name_of(TillotsonRegion r) {
-  switch (r) {
-    case TillotsonRegion::compressed:
-      return "compressed";
-    case TillotsonRegion::cold_expanded:
-      return "cold_expanded";
-    case TillotsonRegion::mixed:
-      return "mixed";
-    case TillotsonRegion::hot_expanded:
-      return "hot_expanded";
-    case TillotsonRegion::vapour_expansion:
-      return "vapour_expansion";
-  }
-  return "?";
+  constexpr const char* kNames[] = {"compressed", "cold_expanded", "mixed", "hot_expanded",
+                                    "vapour_expansion"};  // in the enum's order
+  const auto i = static_cast<std::size_t>(r);
+  return i < std::size(kNames) ? kNames[i] : "?";
 }
 
 class Tillotson {
@@ -81,7 +72,6 @@ class Tillotson {
   EosPoint<T> evaluate(const T& rho_in, const T& E_in) const {
     using simd::vexp;
     using simd::vmax;
-    using simd::vselect;
     const double rho0 = q_.rho0;
     // Negative specific energy is below the cold curve E = 0 that Tillotson is referred to, and
     // would make omega = E/(E0 eta^2) + 1 vanish; the EOS sees E >= 0 (the energy column keeps
@@ -136,33 +126,35 @@ class Tillotson {
     const auto cold = E <= q_.Eiv;
 
     // Expanded, rho >= rho_iv: cold (Eq. 8), mixed (Eq. 10).
-    T p = vselect(cold, p1, p3);
-    T p_r = vselect(cold, p1_r, p3_r);
-    T p_e = vselect(cold, p1_e, p3_e);
+    Branch<T> out = pick(cold, Branch<T>{p1, p1_r, p1_e}, Branch<T>{p3, p3_r, p3_e});
     // Expanded below rho_iv: Eq. 11 with the documented floor.
     const T floor = floor_slope_ * rho;
-    const auto floored = p4 < floor;
-    const T pv = vselect(floored, floor, p4);
-    const T pv_r = vselect(floored, T(floor_slope_), p4_r);
-    const T pv_e = vselect(floored, T(0.0), p4_e);
-    p = vselect(vapour, pv, p);
-    p_r = vselect(vapour, pv_r, p_r);
-    p_e = vselect(vapour, pv_e, p_e);
+    const Branch<T> vapour_branch =
+        pick(p4 < floor, Branch<T>{floor, T(floor_slope_), T(0.0)}, Branch<T>{p4, p4_r, p4_e});
+    out = pick(vapour, vapour_branch, out);
     // Hot expanded (Eq. 9) overrides both, then compression (Eq. 8) overrides everything.
-    p = vselect(hot, p2, p);
-    p_r = vselect(hot, p2_r, p_r);
-    p_e = vselect(hot, p2_e, p_e);
-    p = vselect(compressed, p1, p);
-    p_r = vselect(compressed, p1_r, p_r);
-    p_e = vselect(compressed, p1_e, p_e);
+    out = pick(hot, Branch<T>{p2, p2_r, p2_e}, out);
+    out = pick(compressed, Branch<T>{p1, p1_r, p1_e}, out);
 
-    return {p, vmax(isentropic_c2(rho, p, p_r, p_e), T(c2_floor_))};
+    return {out.p, vmax(isentropic_c2(rho, out.p, out.p_r, out.p_e), T(c2_floor_))};
   }
 
   // Reference bulk sound speed squared A / rho0 (the floor is a fraction of it).
   double reference_c2() const { return q_.A / q_.rho0; }
 
  private:
+  // The pressure of one branch of Fig. 3a and its partials dp/drho, dp/dE.
+  template <class T>
+  struct Branch {
+    T p, p_r, p_e;
+  };
+  // Lane by lane: a where the region mask m holds, else b.
+  template <class M, class T>
+  static Branch<T> pick(const M& m, const Branch<T>& a, const Branch<T>& b) {
+    return {simd::vselect(m, a.p, b.p), simd::vselect(m, a.p_r, b.p_r),
+            simd::vselect(m, a.p_e, b.p_e)};
+  }
+
   TillotsonParams q_;
   double floor_slope_ = 0.0;
   double c2_floor_ = 0.0;

@@ -16,9 +16,6 @@ struct BenzAsphaug {
 
   template <class T>
   void return_map(T (&s)[6], PlasticState<T>& st) const {
-    using simd::vmax;
-    using simd::vmin;
-    using simd::vsqrt;
     const T three_j2 = 3.0 * j2(s);
     const T f = vmin(T(yield * yield) / vmax(three_j2, T(kTinyStress)), T(1.0));  // BA95 Eq. 9
     const T sbar = vsqrt(three_j2);

@@ -29,10 +29,6 @@ struct DruckerPrager {
 
   template <class T>
   void return_map(T (&s)[6], PlasticState<T>& st) const {
-    using simd::vmax;
-    using simd::vmin;
-    using simd::vselect;
-    using simd::vsqrt;
     const double G = elastic.G;
     const double K = elastic.K;
     const T p_trial = st.p;

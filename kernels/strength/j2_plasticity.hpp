@@ -21,8 +21,6 @@ struct J2Plasticity {
 
   template <class T>
   void return_map(T (&s)[6], PlasticState<T>& st) const {
-    using simd::vmax;
-    using simd::vsqrt;
     const T sbar = vsqrt(3.0 * j2(s));          // sigma_bar* = sqrt(3 J2*) (Eq. 41)
     const T f = sbar - yield_stress(st.eps_p);  // Eq. 41 at the trial state
     const T deps = vmax(f, T(0.0)) / (3.0 * elastic.G + plastic_modulus);  // Eq. 43

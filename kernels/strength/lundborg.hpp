@@ -34,16 +34,12 @@ struct Lundborg {
 
   template <class T>
   T melt_factor(const T& energy) const {
-    using simd::vmax;
-    using simd::vmin;
     if (melt_energy <= 0.0) return T(1.0);
     return vmin(vmax(1.0 - energy / melt_energy, T(0.0)), T(1.0));
   }
 
   template <class T>
   T yield(const T& p, const T& damage, const T& energy) const {
-    using simd::vmax;
-    using simd::vmin;
     const T pi = vmax(p, T(intact_tension()));
     const T yi = cohesion +
                  friction_intact * pi / (1.0 + friction_intact * pi / (strength_limit - cohesion));
@@ -59,9 +55,6 @@ struct Lundborg {
 
   template <class T>
   void return_map(T (&s)[6], PlasticState<T>& st) const {
-    using simd::vmax;
-    using simd::vmin;
-    using simd::vsqrt;
     const T tau_trial = vsqrt(j2(s));
     const T tau = vmin(tau_trial, yield(st.p, st.damage, st.energy));
     scale(s, tau / vmax(tau_trial, T(kTinyStress)));

@@ -44,8 +44,6 @@ struct ModifiedLundborg {
 
   template <class T>
   T melt_factor(const T& heat) const {
-    using simd::vmax;
-    using simd::vmin;
     if (melt_heat <= 0.0) return T(1.0);
     return vmin(vmax(1.0 - heat / melt_heat, T(0.0)), T(1.0));
   }
@@ -53,8 +51,6 @@ struct ModifiedLundborg {
   // Yield strength Y(p) of Eq. 4 (the bracket times the melt factor) and H = dY/dp (Eq. 5a).
   template <class T>
   void yield(const T& p, const T& damage, const T& melt, T& y, T& h) const {
-    using simd::vmax;
-    using simd::vselect;
     const double ci = friction_intact / (strength_limit - cohesion);
     const double cd = friction_damaged / strength_limit;
     const T pi = vmax(p, T(intact_tension()));
@@ -80,10 +76,6 @@ struct ModifiedLundborg {
 
   template <class T>
   void return_map(T (&s)[6], PlasticState<T>& st) const {
-    using simd::vmax;
-    using simd::vmin;
-    using simd::vselect;
-    using simd::vsqrt;
     const double G = elastic.G;
     const T tau_trial = vsqrt(j2(s));
     const T p_trial = st.p;

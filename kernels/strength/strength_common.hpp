@@ -8,6 +8,12 @@
 
 namespace shatter::strength {
 
+// The SIMD primitives every return mapping uses, for T = double and T = batch alike.
+using simd::vmax;
+using simd::vmin;
+using simd::vselect;
+using simd::vsqrt;
+
 struct ElasticConstants {
   double young = 0.0;    // E_Y, Pa
   double poisson = 0.0;  // nu
@@ -57,8 +63,6 @@ inline constexpr double kTinyStress = 1e-300;
 template <class T>
 inline void book_plastic_work(const T& tau_trial, const T& tau, const T& p_trial, const T& p,
                               const ElasticConstants& el, PlasticState<T>& st) {
-  using simd::vmax;
-  using simd::vsqrt;
   const T dtau = tau_trial - tau;
   const T dp = p - p_trial;
   const T dev2 = dtau * dtau / (2.0 * el.G * el.G);  // deps_p' : deps_p'

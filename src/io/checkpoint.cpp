@@ -6,13 +6,13 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "io/h5.hpp"
 #include "io/particles_h5.hpp"
-#include "shatter/io/atomic_file.hpp"
 
 namespace shatter::io {
 namespace {
@@ -32,13 +32,48 @@ constexpr std::pair<const char*, double EnergyBudget::*> kEnergyTerms[] = {
     {"scale", &EnergyBudget::scale},
 };
 
-// Doubles are stored as native IEEE values, so a round trip is exact (restarts are bitwise).
-void write_clock(hid_t file, const Clock& c) {
-  h5::Handle g = h5::create_group(file, "clock");
-  h5::set_attr(g.get(), "time", c.time);
-  h5::set_attr(g.get(), "dt", c.dt);
-  h5::set_attr(g.get(), "dt_prev", c.dt_prev);
-  h5::set_attr(g.get(), "step", c.step);
+// The clock's and the output cursor's members, each written and read by one table, attributes
+// of the groups "clock" and "output" in this order. Doubles are stored as native IEEE values, so
+// a round trip is exact (restarts are bitwise).
+template <class S>
+using Member = std::variant<double S::*, std::uint64_t S::*>;
+template <class S>
+struct Attr {
+  const char* name;
+  Member<S> member;
+};
+constexpr Attr<Clock> kClockAttrs[] = {{"time", &Clock::time},
+                                       {"dt", &Clock::dt},
+                                       {"dt_prev", &Clock::dt_prev},
+                                       {"step", &Clock::step}};
+constexpr Attr<OutputCursor> kCursorAttrs[] = {
+    {"next_snapshot", &OutputCursor::next_snapshot},
+    {"next_snapshot_time", &OutputCursor::next_snapshot_time},
+    {"next_checkpoint_time", &OutputCursor::next_checkpoint_time}};
+
+template <class S, std::size_t N>
+void write_attrs(hid_t file, const char* group, const S& s, const Attr<S> (&attrs)[N]) {
+  h5::Handle g = h5::create_group(file, group);
+  for (const Attr<S>& a : attrs) {
+    std::visit([&](auto member) { h5::set_attr(g.get(), a.name, s.*member); }, a.member);
+  }
+}
+
+void read_attr(hid_t obj, const char* name, double& v) {
+  v = h5::get_attr_double(obj, name);
+}
+void read_attr(hid_t obj, const char* name, std::uint64_t& v) {
+  v = h5::get_attr_u64(obj, name);
+}
+
+template <class S, std::size_t N>
+S read_attrs(hid_t file, const char* group, const Attr<S> (&attrs)[N]) {
+  h5::Handle g = h5::open_group(file, group);
+  S s;
+  for (const Attr<S>& a : attrs) {
+    std::visit([&](auto member) { read_attr(g.get(), a.name, s.*member); }, a.member);
+  }
+  return s;
 }
 
 // The attribute values the checksums of the datasets do not cover, as bytes in a fixed order.
@@ -61,16 +96,6 @@ std::vector<unsigned char> state_bytes(const RunState& s) {
   return out;
 }
 
-Clock read_clock(hid_t file) {
-  h5::Handle g = h5::open_group(file, "clock");
-  Clock c;
-  c.time = h5::get_attr_double(g.get(), "time");
-  c.dt = h5::get_attr_double(g.get(), "dt");
-  c.dt_prev = h5::get_attr_double(g.get(), "dt_prev");
-  c.step = h5::get_attr_u64(g.get(), "step");
-  return c;
-}
-
 void write_energy(hid_t file, const EnergyBudget& e) {
   h5::Handle g = h5::create_group(file, "energy");
   h5::set_attr(g.get(), "units", std::string_view("J"));
@@ -84,31 +109,22 @@ EnergyBudget read_energy(hid_t file) {
   return e;
 }
 
-void write_cursor(hid_t file, const OutputCursor& c) {
-  h5::Handle g = h5::create_group(file, "output");
-  h5::set_attr(g.get(), "next_snapshot", c.next_snapshot);
-  h5::set_attr(g.get(), "next_snapshot_time", c.next_snapshot_time);
-  h5::set_attr(g.get(), "next_checkpoint_time", c.next_checkpoint_time);
-}
-
-OutputCursor read_cursor(hid_t file) {
-  h5::Handle g = h5::open_group(file, "output");
-  OutputCursor c;
-  c.next_snapshot = h5::get_attr_u64(g.get(), "next_snapshot");
-  c.next_snapshot_time = h5::get_attr_double(g.get(), "next_snapshot_time");
-  c.next_checkpoint_time = h5::get_attr_double(g.get(), "next_checkpoint_time");
-  return c;
-}
-
-// Every column the saved store holds, real or integer, into the live store.
+// Every column the saved store holds, real or integer, into the live store: live row p takes
+// saved row (*from)[p], or row p where `from` is null (stores of the same rows).
 template <class FieldEnum>
-void copy_columns(ParticleStore& live, const ParticleStore& saved, std::size_t count) {
+void copy_columns(ParticleStore& live, const ParticleStore& saved, std::size_t count,
+                  const std::vector<std::size_t>* from) {
   for (std::size_t i = 0; i < count; ++i) {
     const auto f = static_cast<FieldEnum>(i);
     if (!saved.has(f)) continue;
     live.require(f);
     const auto src = saved.col(f);
-    std::copy(src.begin(), src.end(), live.col(f).begin());
+    auto dst = live.col(f);
+    if (from == nullptr) {
+      std::copy(src.begin(), src.end(), dst.begin());
+    } else {
+      for (std::size_t p = 0; p < from->size(); ++p) dst[p] = src[(*from)[p]];
+    }
   }
 }
 
@@ -137,40 +153,30 @@ std::uint64_t checked_version(hid_t f, const std::filesystem::path& file) {
 void write_checkpoint(const std::filesystem::path& file, const ParticleStore& store,
                       const RunState& state, const CheckpointProgress& progress) {
   h5::QuietErrors quiet;
-  const auto tmp = temporary_for(file);
-  try {
-    h5::Handle f = h5::create_file(tmp);
-    h5::set_attr(f.get(), "format", kFormat);
-    h5::set_attr(f.get(), "format_version", kFormatVersion);
-    h5::set_attr(f.get(), "program_version", state.program_version);
-    h5::set_attr(f.get(), "checksums",
+  h5::write_file_atomically(file, [&](hid_t f) {
+    h5::set_attr(f, "format", kFormat);
+    h5::set_attr(f, "format_version", kFormatVersion);
+    h5::set_attr(f, "program_version", state.program_version);
+    h5::set_attr(f, "checksums",
                  std::string_view("crc32 (zlib) of each dataset's values in its attribute "
                                   "crc32; state_crc32 covers clock, energy and output"));
     // A dataset, not an attribute: attributes are limited to 64 KiB in the default format.
-    h5::write_text(f.get(), "scene", state.scene_text);
-    write_clock(f.get(), state.clock);
-    write_energy(f.get(), state.energy);
-    write_cursor(f.get(), state.cursor);
+    h5::write_text(f, "scene", state.scene_text);
+    write_attrs(f, "clock", state.clock, kClockAttrs);
+    write_energy(f, state.energy);
+    write_attrs(f, "output", state.cursor, kCursorAttrs);
     {
-      h5::Handle g = h5::open_group(f.get(), "clock");
+      h5::Handle g = h5::open_group(f, "clock");
       h5::set_attr(g.get(), "dt_first", state.dt_first);
-      h5::Handle e = h5::open_group(f.get(), "energy");
+      h5::Handle e = h5::open_group(f, "energy");
       h5::set_attr(e.get(), "internal_next", state.internal_next);
     }
     const auto bytes = state_bytes(state);
-    h5::set_attr(f.get(), "state_crc32", h5::checksum(bytes.data(), bytes.size()));
-    h5::seal_attrs(f.get(), kRootAttrs);
+    h5::set_attr(f, "state_crc32", h5::checksum(bytes.data(), bytes.size()));
+    h5::seal_attrs(f, kRootAttrs);
     if (progress) progress("state");
-    write_particles(f.get(), store, all_columns(store), progress);
-    if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
-      throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
-    }
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw;
-  }
-  commit(tmp, file);
+    write_particles(f, store, all_columns(store), progress);
+  });
 }
 
 Checkpoint read_checkpoint(const std::filesystem::path& file) {
@@ -185,9 +191,9 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   Checkpoint c;
   c.state.program_version = h5::get_attr_string(f.get(), "program_version");
   c.state.scene_text = h5::read_text(f.get(), "scene", verify);
-  c.state.clock = read_clock(f.get());
+  c.state.clock = read_attrs(f.get(), "clock", kClockAttrs);
   c.state.energy = read_energy(f.get());
-  c.state.cursor = read_cursor(f.get());
+  c.state.cursor = read_attrs(f.get(), "output", kCursorAttrs);
   if (version >= 2) {
     h5::Handle g = h5::open_group(f.get(), "clock");
     c.state.dt_first = h5::get_attr_double(g.get(), "dt_first");
@@ -225,29 +231,15 @@ void restore_columns(ParticleStore& live, const ParticleStore& saved) {
       if (it == row.end()) throw std::logic_error("restore_columns: a particle id not saved");
       from[p] = it->second;
     }
-    for (std::size_t i = 0; i < kFieldCount; ++i) {
-      const auto f = static_cast<Field>(i);
-      if (!saved.has(f)) continue;
-      live.require(f);
-      const auto src = saved.col(f);
-      auto dst = live.col(f);
-      for (std::size_t p = 0; p < from.size(); ++p) dst[p] = src[from[p]];
-    }
-    for (std::size_t i = 0; i < kIFieldCount; ++i) {
-      const auto f = static_cast<IField>(i);
-      if (!saved.has(f)) continue;
-      live.require(f);
-      const auto src = saved.col(f);
-      auto dst = live.col(f);
-      for (std::size_t p = 0; p < from.size(); ++p) dst[p] = src[from[p]];
-    }
+    copy_columns<Field>(live, saved, kFieldCount, &from);
+    copy_columns<IField>(live, saved, kIFieldCount, &from);
     return;
   }
   if (live.size() != saved.size() || live.groups().size() != saved.groups().size()) {
     throw std::logic_error("restore_columns: the stores hold different particles");
   }
-  copy_columns<Field>(live, saved, kFieldCount);
-  copy_columns<IField>(live, saved, kIFieldCount);
+  copy_columns<Field>(live, saved, kFieldCount, nullptr);
+  copy_columns<IField>(live, saved, kIFieldCount, nullptr);
 }
 
 }  // namespace shatter::io

@@ -305,6 +305,23 @@ Handle create_file(const std::filesystem::path& path) {
   return {id, H5Fclose};
 }
 
+void write_file_atomically(const std::filesystem::path& file,
+                           const std::function<void(hid_t file)>& write) {
+  const auto tmp = temporary_for(file);
+  try {
+    Handle f = create_file(tmp);
+    write(f.get());
+    if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
+      throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
+    }
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+  commit(tmp, file);
+}
+
 Handle open_file(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) {
     throw std::runtime_error(fmt::format("no such file: {}", path.string()));

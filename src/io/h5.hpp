@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -49,7 +50,12 @@ class QuietErrors {
 };
 
 Handle create_file(const std::filesystem::path& path);  // truncates
-Handle open_file(const std::filesystem::path& path);    // read-only
+// Writes `file` crash-safely: `write` fills a new file at its temporary name, which is then
+// flushed and committed (shatter/io/atomic_file.hpp). A failure (a full disk) removes the
+// temporary file and rethrows. The caller holds a QuietErrors.
+void write_file_atomically(const std::filesystem::path& file,
+                           const std::function<void(hid_t file)>& write);
+Handle open_file(const std::filesystem::path& path);  // read-only
 Handle create_group(hid_t parent, const std::string& name);
 Handle open_group(hid_t parent, const std::string& name);
 bool exists(hid_t parent, const std::string& name);

@@ -6,50 +6,20 @@
 namespace shatter::io {
 namespace {
 
-// Number of indices of the component along `axis` (0, 1 or 2); odd = the mirror flips it.
+// Number of indices of the component along `axis` (0, 1 or 2); odd = the mirror flips it. Read
+// from the column name: "x", "vx", "sxy", "deps_xy", "dspin_xy", "sdev_xy".
 int indices_along(Field f, int axis) {
   const char a = static_cast<char>('x' + axis);
+  const std::string_view n = name_of(f);
   auto count = [&](std::string_view s) {
     return static_cast<int>(std::count(s.begin(), s.end(), a));
   };
-  switch (f) {
-    case Field::x:
-    case Field::vx:
-      return axis == 0 ? 1 : 0;
-    case Field::y:
-    case Field::vy:
-      return axis == 1 ? 1 : 0;
-    case Field::z:
-    case Field::vz:
-      return axis == 2 ? 1 : 0;
-    case Field::sxx:
-    case Field::syy:
-    case Field::szz:
-    case Field::sxy:
-    case Field::syz:
-    case Field::sxz:
-      return count(name_of(f).substr(1));
-    case Field::deps_xx:
-    case Field::deps_yy:
-    case Field::deps_zz:
-    case Field::deps_xy:
-    case Field::deps_yz:
-    case Field::deps_xz:
-    case Field::dspin_xy:
-    case Field::dspin_yz:
-    case Field::dspin_xz:
-    case Field::sdev_xx:
-    case Field::sdev_yy:
-    case Field::sdev_zz:
-    case Field::sdev_xy:
-    case Field::sdev_yz:
-    case Field::sdev_xz: {
-      const auto n = name_of(f);
-      return count(n.substr(n.find('_') + 1));
-    }
-    default:
-      return 0;  // scalars
+  if (kPosition.has(f)) return count(n);
+  if (kVelocity.has(f) || kStress.has(f)) return count(n.substr(1));
+  if ((kStrainIncrement | kSpinIncrement | kDeviator).has(f)) {
+    return count(n.substr(n.find('_') + 1));
   }
+  return 0;  // scalars
 }
 
 }  // namespace

@@ -8,7 +8,6 @@
 
 #include "io/h5.hpp"
 #include "io/particles_h5.hpp"
-#include "shatter/io/atomic_file.hpp"
 
 namespace shatter::io {
 namespace {
@@ -48,40 +47,30 @@ void write_snapshot(const std::filesystem::path& file, const ParticleStore& stor
                     const SnapshotHeader& header, const ColumnSelection& columns,
                     const SnapshotOptions& options) {
   h5::QuietErrors quiet;
-  const auto tmp = temporary_for(file);
   // A failed write (a full disk) leaves no temporary file behind.
-  try {
-    h5::Handle f = h5::create_file(tmp);
-    h5::set_attr(f.get(), "format", kFormat);
-    h5::set_attr(f.get(), "format_version", kFormatVersion);
-    h5::set_attr(f.get(), "time", header.time);
-    h5::set_attr(f.get(), "time_units", std::string_view("s"));
-    h5::set_attr(f.get(), "step", header.step);
-    h5::set_attr(f.get(), "program_version", header.program_version);
+  h5::write_file_atomically(file, [&](hid_t f) {
+    h5::set_attr(f, "format", kFormat);
+    h5::set_attr(f, "format_version", kFormatVersion);
+    h5::set_attr(f, "time", header.time);
+    h5::set_attr(f, "time_units", std::string_view("s"));
+    h5::set_attr(f, "step", header.step);
+    h5::set_attr(f, "program_version", header.program_version);
     // Stored shifted by one so that "none" (-1) fits an unsigned attribute.
-    h5::set_attr(f.get(), "symmetry_axis", static_cast<std::uint64_t>(header.symmetry_axis + 1));
-    h5::set_attr(f.get(), "units", std::string_view("SI; see the units attribute of each column"));
-    h5::set_attr(f.get(), "checksums",
+    h5::set_attr(f, "symmetry_axis", static_cast<std::uint64_t>(header.symmetry_axis + 1));
+    h5::set_attr(f, "units", std::string_view("SI; see the units attribute of each column"));
+    h5::set_attr(f, "checksums",
                  std::string_view("crc32 (zlib) of each dataset's values in its attribute crc32"));
     if (!options.body_names.empty() || !options.material_names.empty()) {
-      h5::Handle names = h5::create_group(f.get(), "names");
+      h5::Handle names = h5::create_group(f, "names");
       h5::write_strings(names.get(), "body", options.body_names);
       h5::write_strings(names.get(), "material", options.material_names);
     }
-    h5::set_attr(f.get(), "precision",
+    h5::set_attr(f, "precision",
                  std::string_view(options.single_precision ? "binary32" : "binary64"));
-    h5::seal_attrs(f.get(), kHeaderAttrs);
+    h5::seal_attrs(f, kHeaderAttrs);
     const ParticleLayout layout{true, {true, options.single_precision}};
-    write_particles(f.get(), store, columns, {}, layout);
-    if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
-      throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
-    }
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw;
-  }
-  commit(tmp, file);
+    write_particles(f, store, columns, {}, layout);
+  });
 }
 
 Snapshot read_snapshot(const std::filesystem::path& file) {

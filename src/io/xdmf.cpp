@@ -171,15 +171,13 @@ void XdmfSeries::write_cells() {
   for (const XdmfEntry& e : entries_) counts.insert(e.particles);
   if (counts == cells_written_) return;
   const std::filesystem::path file = cells_path();
-  const auto tmp = temporary_for(file);
   h5::QuietErrors quiet;
-  try {
-    h5::Handle f = h5::create_file(tmp);
-    h5::set_attr(f.get(), "format", std::string_view("shatter-xdmf-cells"));
-    h5::set_attr(f.get(), "description",
+  h5::write_file_atomically(file, [&](hid_t f) {
+    h5::set_attr(f, "format", std::string_view("shatter-xdmf-cells"));
+    h5::set_attr(f, "description",
                  std::string_view("vertex-cell connectivity 0..n-1 of the n-point grids of the "
                                   "XDMF sidecar, one dataset cells/n<n> per particle count"));
-    h5::Handle g = h5::create_group(f.get(), "cells");
+    h5::Handle g = h5::create_group(f, "cells");
     std::vector<std::int64_t> ids;
     for (std::size_t n : counts) {
       ids.resize(n);
@@ -187,15 +185,7 @@ void XdmfSeries::write_cells() {
       h5::write_ints(g.get(), fmt::format("n{}", n), ids, {.compress = true, .single = false});
     }
     g.reset();
-    if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) {
-      throw std::runtime_error(fmt::format("cannot flush {}", tmp.string()));
-    }
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw;
-  }
-  commit(tmp, file);
+  });
   cells_written_ = std::move(counts);
 }
 

@@ -1,18 +1,4 @@
-// Instantiations of the composed constitutive kernel for the tillotson_simplified EOS.
-// GCC 12 false positive inside AVX-512 intrinsics (PR 105593), see constitutive/simd.hpp; it
-// must be silenced before the intrinsic headers are first included.
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#endif
-#include "materials/composed_model.hpp"
+// compose() for the tillotson_simplified EOS: its own translation unit (compose_unit.hpp says why).
+#include "materials/compose_unit.hpp"
 
-namespace shatter::materials {
-
-MaterialPtr compose(const eos::TillotsonSimplified& eos, const AnyStrength& strength,
-                    const AnyDamage& damage, constitutive::DamageCoupling coupling,
-                    const std::string& name) {
-  return compose_with(eos, strength, damage, coupling, name);
-}
-
-}  // namespace shatter::materials
+SHATTER_COMPOSE(TillotsonSimplified)

@@ -48,6 +48,15 @@ void require_positive(std::string_view model, const std::string& key, double v, 
                                 "' must be " + (allow_zero ? "non-negative" : "positive"));
 }
 
+// The one parameter of a one-parameter model (brittle: sigma_0, fatigue: eps_0): required and
+// positive, and no other key allowed.
+double sole_parameter(std::string_view model, const Params& params, const char* key) {
+  check_keys(model, params, {key});
+  const double v = get(model, params, key, 0.0, true);
+  require_positive(model, key, v, false);
+  return v;
+}
+
 GradyKipp make_grady_kipp(std::string_view model, const Params& params) {
   check_keys(model, params,
              {"crack_speed_factor", "rs", "intact_soundspeed", "min_intact_fraction", "weibull_m",
@@ -74,17 +83,13 @@ AnyDamage make_damage_policy(std::string_view model, const Params& params) {
   }
   if (model == "grady_kipp") return make_grady_kipp(model, params);
   if (model == "brittle") {
-    check_keys(model, params, {"sigma_0"});
     Brittle p;
-    p.params.sigma_0 = get(model, params, "sigma_0", 0.0, true);
-    require_positive(model, "sigma_0", p.params.sigma_0, false);
+    p.params.sigma_0 = sole_parameter(model, params, "sigma_0");
     return p;
   }
   if (model == "fatigue") {
-    check_keys(model, params, {"eps_0"});
     Fatigue p;
-    p.params.eps_0 = get(model, params, "eps_0", 0.0, true);
-    require_positive(model, "eps_0", p.params.eps_0, false);
+    p.params.eps_0 = sole_parameter(model, params, "eps_0");
     return p;
   }
   std::string list;

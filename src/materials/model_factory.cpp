@@ -63,22 +63,19 @@ AnyStrength make_strength(const MaterialSpec& s) {
     return strength::DruckerPrager{el, s.get("cohesion"), s.get("friction"), s.get("dilatancy"),
                                    s.get("tension_cutoff")};
   }
-  if (m == "lundborg") {
-    return strength::Lundborg{el,
-                              s.get("cohesion"),
-                              s.get("friction_intact"),
-                              s.get("friction_damaged"),
-                              s.get("strength_limit"),
-                              opt(s, "melt_energy", 0.0)};
-  }
-  if (m == "modified_lundborg") {
-    return strength::ModifiedLundborg{el,
-                                      s.get("cohesion"),
-                                      s.get("friction_intact"),
-                                      s.get("friction_damaged"),
-                                      s.get("strength_limit"),
-                                      s.get("dilatancy"),
-                                      opt(s, "melt_heat", 0.0)};
+  if (m == "lundborg" || m == "modified_lundborg") {
+    // The pressure-dependent surface both share (Eq. 4); in the order the aggregate lists them.
+    const double cohesion = s.get("cohesion");
+    const double friction_intact = s.get("friction_intact");
+    const double friction_damaged = s.get("friction_damaged");
+    const double limit = s.get("strength_limit");
+    if (m == "lundborg") {
+      return strength::Lundborg{
+          el, cohesion, friction_intact, friction_damaged, limit, opt(s, "melt_energy", 0.0)};
+    }
+    return strength::ModifiedLundborg{
+        el,    cohesion,           friction_intact,         friction_damaged,
+        limit, s.get("dilatancy"), opt(s, "melt_heat", 0.0)};
   }
   throw MaterialError("material '" + s.name + "': unknown strength '" + m + "'", "strength");
 }

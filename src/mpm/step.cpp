@@ -16,9 +16,8 @@
 namespace shatter::mpm {
 
 // The stages the scene needs, in the order of App. A.2; each exchange (several ranks) is a
-// stage of its own: migrate before the sort, halo after the force-carrying P2G. The scatters
-// of the remap and the filter passes end with their own halo exchange (stages/remap.cpp,
-// stages/filter.cpp).
+// stage of its own: migrate before the sort, halo after each scatter (P2G's, the remap's, and
+// each filter pass's: halo_xpic or halo_fmpm, added with the passes by stages/filter.cpp).
 template <class Shape>
 void add_stages(State& s) {
   StageGraph& g = s.graph;
@@ -28,13 +27,18 @@ void add_stages(State& s) {
   if (s.dist()) g.add(parallel::halo_stage(s));                  // 1b. node sums over ranks
   if (s.config.self_gravity.self) g.add(self_gravity_stage(s));  // 1c. nodal self-gravity
   g.add(grid_update_stage(s));                                   // 2-4. BCs, momentum (Eq. 27)
-  if (s.transfer.filter_stage()) g.add(filter_stage<Shape>(s));  // 5a. XPIC / FMPM passes
+  if (s.transfer.filter_stage()) add_filter_stages<Shape>(s);    // 5a. XPIC / FMPM passes
   g.add(g2p_stage<Shape>(s));                                    // 5. G2P
   if (s.transfer.filter_heat) g.add(filter_heat_stage(s));       // 5b. filtered loss as heat
-  if (s.transfer.remap) g.add(remap_stage<Shape>(s));            // 6. MUSL remap
-  g.add(velocity_gradient_stage<Shape>(s));                      // 7a. Eqs. 21, 23
-  g.add(constitutive_stage(s));                                  // 7b. Eqs. 22, 35
-  g.add(advance_positions_stage(s));                             // x^{n+1}
+  if (s.transfer.remap) {  // 6. MUSL remap: scatter, node sums over ranks, nodal velocity
+    const Stage remap = remap_stage<Shape>(s);
+    g.add(remap);
+    if (s.dist()) g.add(parallel::momentum_halo_stage(s, remap, false));
+    g.add(remap_velocity_stage(s));
+  }
+  g.add(velocity_gradient_stage<Shape>(s));  // 7a. Eqs. 21, 23
+  g.add(constitutive_stage(s));              // 7b. Eqs. 22, 35
+  g.add(advance_positions_stage(s));         // x^{n+1}
   if (s.boundaries.has_outflow()) g.add(outflow_stage(s));
   g.add(energy_stage(s));     // energy accounts and the next time step (Eq. 34)
   g.add(time_step_stage(s));  // are independent: they run concurrently

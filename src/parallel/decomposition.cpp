@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "shatter/core/reorder.hpp"
+
 namespace shatter::parallel {
 namespace {
 
@@ -175,17 +177,12 @@ ParticleStore merge_particles(const ParticleStore& like, std::span<const std::ui
   return out;
 }
 
+// Ids are unique, so the stable re-order is the one a plain sort by id gives.
 void sort_by_id(ParticleStore& P) {
   if (!P.has(IField::id)) return;
   const auto id = P.col(IField::id);
-  std::vector<std::uint32_t> order(P.size());
-  std::iota(order.begin(), order.end(), 0U);
-  for (const Group& g : P.groups()) {
-    std::sort(order.begin() + static_cast<std::ptrdiff_t>(g.range.begin),
-              order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
-              [&](std::uint32_t a, std::uint32_t b) { return id[a] < id[b]; });
-  }
-  P.permute(order);
+  std::vector<std::uint32_t> order;
+  reorder_groups_by(P, order, [&](std::uint32_t p) { return id[p]; });
 }
 
 ParticleStore gather_particles(const ParticleStore& local, const Comm& comm) {

@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "shatter/core/reorder.hpp"
 #include "sph/solver_impl.hpp"
 
 namespace shatter::sph {
@@ -93,14 +94,7 @@ bool SphSolver::Impl::lists_still_cover() const {
 void SphSolver::Impl::reorder_by_cell() {
   ParticleStore& P = s.particles_;
   const auto cells = search.cells();
-  order.resize(P.size());
-  std::iota(order.begin(), order.end(), 0U);
-  for (const Group& g : P.groups()) {
-    std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(g.range.begin),
-                     order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
-                     [&](std::uint32_t a, std::uint32_t b) { return cells[a] < cells[b]; });
-  }
-  P.permute(order);
+  reorder_groups_by(P, order, [&](std::uint32_t p) { return cells[p]; });
   permute_switch();
   smoothing_lengths();
   build_search();

@@ -56,8 +56,21 @@ SolverConfig column_config(const RunSettings& run, double h) {
   return cfg;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+// The particle column of a 1-D problem, at its velocity at t = 0.
+template <class Problem>
+detail::Column initial_column(const Problem& problem, const RunSettings& run) {
+  return detail::make_column(problem.length, run.cells, problem.points_per_cell, problem.density,
+                             [&](double x) { return problem.velocity(x, 0.0); });
+}
+
+// The cost of a run of cell size h started (set-up included) at t0 and now done.
+RunCost cost_of(const Simulation& sim, double h, std::chrono::steady_clock::time_point t0) {
+  RunCost c;
+  c.cell_size = h;
+  c.steps = sim.clock().step;
+  c.particles = sim.particles().size();
+  c.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return c;
 }
 
 // Steps the simulation to t_end, one stable step at a time, calling sample(t_x, t_v) after each
@@ -80,9 +93,7 @@ void run_to(Simulation& sim, double t_end, Sample&& sample) {
 BarErrors run_vibrating_bar(const VibratingBar& problem, const RunSettings& run) {
   const auto t0 = std::chrono::steady_clock::now();
   const double h = problem.length / run.cells;
-  detail::Column column =
-      detail::make_column(problem.length, run.cells, problem.points_per_cell, problem.density,
-                          [&](double x) { return problem.velocity(x, 0.0); });
+  detail::Column column = initial_column(problem, run);
   const std::vector<double> X = std::move(column.reference_x);
 
   SolverConfig cfg = column_config(run, h);
@@ -133,10 +144,7 @@ BarErrors run_vibrating_bar(const VibratingBar& problem, const RunSettings& run)
                                        return vx[p] - problem.velocity(Xp, t_v);
                                      }) /
                     problem.v0;
-  out.cell_size = h;
-  out.steps = sim.clock().step;
-  out.particles = P.size();
-  out.wall_s = seconds_since(t0);
+  static_cast<RunCost&>(out) = cost_of(sim, h, t0);
   return out;
 }
 
@@ -172,9 +180,7 @@ double ManufacturedSolution::body_force(double X, double t) const {
 MmsErrors run_manufactured_solution(const ManufacturedSolution& problem, const RunSettings& run) {
   const auto t0 = std::chrono::steady_clock::now();
   const double h = problem.length / run.cells;
-  detail::Column column =
-      detail::make_column(problem.length, run.cells, problem.points_per_cell, problem.density,
-                          [&](double x) { return problem.velocity(x, 0.0); });
+  detail::Column column = initial_column(problem, run);
   // Shared with the body-force hook, which lives in the solver config.
   const auto X = std::make_shared<const std::vector<double>>(std::move(column.reference_x));
 
@@ -213,10 +219,7 @@ MmsErrors run_manufactured_solution(const ManufacturedSolution& problem, const R
   out.unresolved_fraction_run = transferred_dt > 0.0 ? unresolved_dt / transferred_dt : 0.0;
   out.displacement_l2 = l2(t_x);
   out.unresolved_fraction = sim.energy().unresolved_fraction();
-  out.cell_size = h;
-  out.steps = sim.clock().step;
-  out.particles = sim.particles().size();
-  out.wall_s = seconds_since(t0);
+  static_cast<RunCost&>(out) = cost_of(sim, h, t0);
   return out;
 }
 

@@ -56,11 +56,11 @@ TEST(CheckStages, FlipWithOutflowFacesIsTheMuslStep) {
   // tiny.toml: FLIP (the default), single-field contact, outflow faces.
   const Listed l = stages_of({});
   ASSERT_EQ(l.code, 0) << l.out;
-  EXPECT_EQ(l.stages,
-            (Names{"sort", "p2g", "grid_update", "g2p", "remap", "velocity_gradient",
-                   "constitutive", "advance_positions", "outflow", "energy", "time_step"}))
+  EXPECT_EQ(l.stages, (Names{"sort", "p2g", "grid_update", "g2p", "remap", "remap_velocity",
+                             "velocity_gradient", "constitutive", "advance_positions", "outflow",
+                             "energy", "time_step"}))
       << l.out;
-  EXPECT_NE(l.out.find("on 1 rank, 11 stages"), std::string::npos) << l.out;
+  EXPECT_NE(l.out.find("on 1 rank, 12 stages"), std::string::npos) << l.out;
   EXPECT_NE(l.out.find("grid_update  (contact: single_field)"), std::string::npos) << l.out;
   EXPECT_NE(l.out.find("memory: ~"), std::string::npos) << "the check's estimate comes first";
 }
@@ -68,9 +68,9 @@ TEST(CheckStages, FlipWithOutflowFacesIsTheMuslStep) {
 TEST(CheckStages, XpicFiltersBeforeG2pAndKeepsTheRemap) {
   const Listed l = stages_of({"solver.transfer=\"xpic\"", "solver.xpic_order=2"});
   ASSERT_EQ(l.code, 0) << l.out;
-  EXPECT_EQ(l.stages,
-            (Names{"sort", "p2g", "grid_update", "xpic", "g2p", "remap", "velocity_gradient",
-                   "constitutive", "advance_positions", "outflow", "energy", "time_step"}))
+  EXPECT_EQ(l.stages, (Names{"sort", "p2g", "grid_update", "xpic", "xpic_nodes", "g2p", "remap",
+                             "remap_velocity", "velocity_gradient", "constitutive",
+                             "advance_positions", "outflow", "energy", "time_step"}))
       << l.out;
   EXPECT_NE(l.out.find("xpic  (transfer: xpic)"), std::string::npos) << l.out;
 }
@@ -91,20 +91,52 @@ TEST(CheckStages, SphListsItsFixedStep) {
 }
 
 #ifdef SHATTER_MPIEXEC
-TEST(CheckStages, TwoRanksAddTheMigrationAndHaloExchanges) {
-  // The leak check is off under mpiexec, as for tests/mpi (its CMakeLists says why: OpenMPI's
-  // unloaded plugins show as leaks from "<unknown module>"); ignored without ASan.
-  const Listed l = stages_of({}, std::string("OMPI_ALLOW_RUN_AS_ROOT=1 "
-                                             "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-                                             "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '") +
-                                     SHATTER_MPIEXEC + "' --oversubscribe -np 2");
+// The leak check is off under mpiexec, as for tests/mpi (its CMakeLists says why: OpenMPI's
+// unloaded plugins show as leaks from "<unknown module>"); ignored without ASan.
+Listed stages_on_two_ranks(const std::vector<std::string>& sets) {
+  return stages_of(sets, std::string("OMPI_ALLOW_RUN_AS_ROOT=1 "
+                                     "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                                     "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '") +
+                             SHATTER_MPIEXEC + "' --oversubscribe -np 2");
+}
+
+TEST(CheckStages, TwoRanksAddTheMigrationAndAHaloExchangeAfterEachScatter) {
+  const Listed l = stages_on_two_ranks({});
   ASSERT_EQ(l.code, 0) << l.out;
   EXPECT_EQ(l.stages, (Names{"migrate", "sort", "p2g", "halo", "grid_update", "g2p", "remap",
-                             "velocity_gradient", "constitutive", "advance_positions", "outflow",
-                             "energy", "time_step"}))
+                             "halo_remap", "remap_velocity", "velocity_gradient", "constitutive",
+                             "advance_positions", "outflow", "energy", "time_step"}))
       << "rank 0 alone prints:\n"
       << l.out;
-  EXPECT_NE(l.out.find("on 2 ranks, 13 stages"), std::string::npos) << l.out;
+  EXPECT_NE(l.out.find("on 2 ranks, 15 stages"), std::string::npos) << l.out;
+}
+
+TEST(CheckStages, TwoRanksExchangeAfterEachFilterPass) {
+  const Listed l = stages_on_two_ranks({"solver.transfer=\"xpic\"", "solver.xpic_order=3"});
+  ASSERT_EQ(l.code, 0) << l.out;
+  EXPECT_EQ(l.stages, (Names{"migrate",
+                             "sort",
+                             "p2g",
+                             "halo",
+                             "grid_update",
+                             "xpic",
+                             "halo_xpic",
+                             "xpic_nodes",
+                             "xpic",
+                             "halo_xpic",
+                             "xpic_nodes",
+                             "g2p",
+                             "remap",
+                             "halo_remap",
+                             "remap_velocity",
+                             "velocity_gradient",
+                             "constitutive",
+                             "advance_positions",
+                             "outflow",
+                             "energy",
+                             "time_step"}))
+      << "rank 0 alone prints:\n"
+      << l.out;
 }
 #endif
 

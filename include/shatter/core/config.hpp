@@ -103,19 +103,10 @@ struct ContactConfig {
 //              momentum and energy booked as outflow
 enum class BoundaryKind : std::uint8_t { none, fixed, slip, symmetry, outflow };
 constexpr std::string_view name_of(BoundaryKind b) {
-  switch (b) {
-    case BoundaryKind::none:
-      return "none";
-    case BoundaryKind::fixed:
-      return "fixed";
-    case BoundaryKind::slip:
-      return "slip";
-    case BoundaryKind::symmetry:
-      return "symmetry";
-    case BoundaryKind::outflow:
-      return "outflow";
-  }
-  return "?";
+  constexpr std::array<std::string_view, 5> kNames{"none", "fixed", "slip", "symmetry",
+                                                   "outflow"};  // in the enum's order
+  const auto i = static_cast<std::size_t>(b);
+  return i < kNames.size() ? kNames[i] : "?";
 }
 
 // Faces in the order -x, +x, -y, +y, -z, +z.

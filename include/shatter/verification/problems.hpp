@@ -76,7 +76,15 @@ struct RunSettings {
   int filter_every = 1;       // SolverConfig::filter_every (xpic and fmpm only)
 };
 
-struct BarErrors {
+// What a run cost, reported with its errors.
+struct RunCost {
+  double cell_size = 0.0;
+  double wall_s = 0.0;  // set-up and run
+  std::uint64_t steps = 0;
+  std::size_t particles = 0;
+};
+
+struct BarErrors : RunCost {
   // Centre-of-mass velocity against exact over every step, relative to its amplitude
   // v0 (1 - cos(beta L)) / (beta L): the maximum and the root mean square.
   double com_velocity_max = 0.0;
@@ -87,13 +95,9 @@ struct BarErrors {
   // Largest |Simulation::energy().error()| over every step: the bar loses no energy through its
   // clamped end, so this is the integrator's error plus any mis-booked boundary work.
   double energy_error_max = 0.0;
-  double cell_size = 0.0;
-  double wall_s = 0.0;  // set-up and run
-  std::uint64_t steps = 0;
-  std::size_t particles = 0;
 };
 
-struct MmsErrors {
+struct MmsErrors : RunCost {
   // Mass-weighted L2 displacement error sqrt(sum m (u_p - u(X_p))^2 / sum m), in m: at t_end
   // and the largest over all steps.
   double displacement_l2 = 0.0;
@@ -104,10 +108,6 @@ struct MmsErrors {
   // one step means little).
   double unresolved_fraction = 0.0;
   double unresolved_fraction_run = 0.0;
-  double cell_size = 0.0;
-  double wall_s = 0.0;
-  std::uint64_t steps = 0;
-  std::size_t particles = 0;
 };
 
 BarErrors run_vibrating_bar(const VibratingBar& problem, const RunSettings& run);

@@ -20,17 +20,20 @@ Stage p2g_stage(State& s);
 Stage self_gravity_stage(State& s);
 // 2, 3, 4. boundary conditions and the momentum update on the grid (Eq. 27)
 Stage grid_update_stage(State& s);
-// 5a. XPIC(m) or FMPM(k): the extra grid-particle-grid passes of the filter
+// 5a. XPIC(m) or FMPM(k): the extra grid-particle-grid passes of the filter, each pass a
+// scatter, its exchange (several ranks) and a nodal update: added to the step's graph in order
 template <class Shape>
-Stage filter_stage(State& s);
+void add_filter_stages(State& s);
 // 5. particle velocity and displacement from the grid
 template <class Shape>
 Stage g2p_stage(State& s);
 // 5b. the kinetic energy the filtered update removed, booked as heat (SolverConfig::filter_heat)
 Stage filter_heat_stage(State& s);
-// 6. MUSL: updated particle momentum back to the grid, nodal velocity
+// 6. MUSL: updated particle momentum back to the grid (the scatter), then, after its exchange
+// (several ranks), the nodal velocity with the boundary conditions
 template <class Shape>
 Stage remap_stage(State& s);
+Stage remap_velocity_stage(State& s);
 // 7a. strain and spin increments, density (Eqs. 21, 23); APIC's C_p
 template <class Shape>
 Stage velocity_gradient_stage(State& s);

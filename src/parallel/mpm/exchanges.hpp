@@ -1,8 +1,8 @@
 #pragma once
 // The MPM step's communication (docs/mpi.md), each exchange a named stage of the step list
 // (src/mpm/step.cpp): particle migration before the sort, the halo exchange of the node sums
-// after the scatters. Built into the MPM library (they work on its grid), kept here so that all
-// communication lives in src/parallel.
+// after each scatter (P2G's, the remap's, each filter pass's). Built into the MPM library (they
+// work on its grid), kept here so that all communication lives in src/parallel.
 
 #include "mpm/stage_graph.hpp"
 #include "parallel/ranks.hpp"
@@ -33,5 +33,10 @@ void halo_capture(mpm::State& s, int colour, NodeFields fields);
 void halo_reduce(mpm::State& s, NodeFields fields);
 // 1b. the exchange of the force-carrying P2G, a stage of its own.
 mpm::Stage halo_stage(mpm::State& s);
+// The exchange of a momentum-only scatter (the remap's, each filter pass's), a stage of its own
+// that follows `scatter` in the step: "halo_" and its name. It declares the scatter's access, so
+// every other stage is ordered against it as against the scatter. A filter pass's exchange
+// (filter_pass) runs only on the steps the filter runs (State::filtering).
+mpm::Stage momentum_halo_stage(mpm::State& s, const mpm::Stage& scatter, bool filter_pass);
 
 }  // namespace shatter::parallel

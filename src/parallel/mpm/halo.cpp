@@ -251,4 +251,11 @@ mpm::Stage halo_stage(mpm::State& s) {
   return {"halo", {{}, mpm::kBlocks}, {{}, mpm::kGrid}, [&s] { halo_reduce(s, kForceExchange); }};
 }
 
+mpm::Stage momentum_halo_stage(mpm::State& s, const mpm::Stage& scatter, bool filter_pass) {
+  return {"halo_" + scatter.name, scatter.reads, scatter.writes, [&s, filter_pass] {
+            if (filter_pass && !s.filtering) return;  // no scatter ran, on every rank alike
+            halo_reduce(s, kMomentumExchange);
+          }};
+}
+
 }  // namespace shatter::parallel
