@@ -40,9 +40,14 @@ struct P2GPoint {
   double m, mvx, mvy, mvz;
   double sxx = 0.0, syy = 0.0, szz = 0.0, sxy = 0.0, syz = 0.0, sxz = 0.0;
   double mbx = 0.0, mby = 0.0, mbz = 0.0;
+  double hoop = 0.0;  // axisymmetric: -V_p sigma_thetatheta / r_p, over 1/h as the stress above
 };
 
-template <bool kForce>
+// kAxisymmetric (r, z) = (x, z), the hoop direction y: the internal force on node I gains the
+// hoop term -V_p sigma_thetathetap N_I(x_p) / r_p in its radial component (Sulsky & Schreyer
+// 1996, CMAME 139, the axisymmetric weak form; NairnMPM MatPointAS::GetFintPlusFext, whose
+// zDeriv is N_I / r_p). V_p is the point's ring volume, m_p / rho_p with the ring's mass.
+template <bool kForce, bool kAxisymmetric = false>
 P2GPoint p2g_point(const P2GParticles& in, std::uint32_t p) {
   P2GPoint q;
   q.m = in.mass[p];
@@ -53,6 +58,8 @@ P2GPoint p2g_point(const P2GParticles& in, std::uint32_t p) {
     q.sxx = k * in.sxx[p], q.syy = k * in.syy[p], q.szz = k * in.szz[p];
     q.sxy = k * in.sxy[p], q.syz = k * in.syz[p], q.sxz = k * in.sxz[p];
     if (in.bx) q.mbx = q.m * in.bx[p], q.mby = q.m * in.by[p], q.mbz = q.m * in.bz[p];
+    // k sigma N h / r_p = -V sigma N / r_p: the node loop multiplies by N (cell units, as above)
+    if constexpr (kAxisymmetric) q.hoop = q.syy / (in.x[p] * in.inv_h);
   }
   return q;
 }
@@ -80,13 +87,16 @@ void p2g_clear(P2GScratch& s) {
 // force fma(mb, N, fma(s_z, g_z, fma(s_x, g_x, s_y g_y))) added to the sum, the FMAs GCC's
 // -ffp-contract=fast made of the scalar expressions, so results are bitwise those of the
 // scalar scatter.
-template <class Shape, bool kForce>
+// kAxisymmetric: the y gradient is zero (the degenerate y stencil), so the s_y g_y term carries
+// the hoop force instead: s_y = (hoop, 0, 0) and g_y = N (sigma_xy = sigma_yz = 0, no torsion).
+template <class Shape, bool kForce, bool kAxisymmetric = false>
 void p2g_lanes(const Stencil<Shape>& st, const P2GPoint& pt, P2GScratch& s) {
   constexpr int W = Shape::kWidth;
   constexpr int E = P2GScratch::kEdge;
   const Lanes<4> q = Lanes<4>::set(pt.m, pt.mvx, pt.mvy, pt.mvz);
   const Lanes<4> sx = Lanes<4>::set(pt.sxx, pt.sxy, pt.sxz, 0.0);
-  const Lanes<4> sy = Lanes<4>::set(pt.sxy, pt.syy, pt.syz, 0.0);
+  const Lanes<4> sy = kAxisymmetric ? Lanes<4>::set(pt.hoop, 0.0, 0.0, 0.0)
+                                    : Lanes<4>::set(pt.sxy, pt.syy, pt.syz, 0.0);
   const Lanes<4> sz = Lanes<4>::set(pt.sxz, pt.syz, pt.szz, 0.0);
   const Lanes<4> mb = Lanes<4>::set(pt.mbx, pt.mby, pt.mbz, 0.0);
   for (int a = 0; a < W; ++a) {
@@ -102,7 +112,7 @@ void p2g_lanes(const Stencil<Shape>& st, const P2GPoint& pt, P2GScratch& s) {
         fma(q, n, Lanes<4>::load(node)).store(node);
         if constexpr (kForce) {
           const Lanes<4> gx = Lanes<4>::splat(gx_ab * st.w[2][c]);
-          const Lanes<4> gy = Lanes<4>::splat(gy_ab * st.w[2][c]);
+          const Lanes<4> gy = kAxisymmetric ? n : Lanes<4>::splat(gy_ab * st.w[2][c]);
           const Lanes<4> gz = Lanes<4>::splat(wab * st.dw[2][c]);
           const Lanes<4> f = fma(mb, n, fma(sz, gz, fma(sx, gx, sy * gy)));  // Eqs. 29, 30
           (Lanes<4>::load(node + 4) + f).store(node + 4);
@@ -202,19 +212,21 @@ void p2g_flush(P2GScratch& s, const std::uint32_t* neighbours, SparseGrid::Nodes
 // Eq. 9 with C_p = B_p D_p^-1 taken as the grid velocity gradient). The shapes reproduce linear
 // fields, sum_I N_I (x_I - x_p) = 0, so the affine term moves no net momentum.
 // Without the affine term the node sums run in vector lanes (p2g_lanes).
-template <class Shape, bool kForce, bool kAffine = false>
+// kAxisymmetric: the hoop force of the r-z mode (p2g_point); FLIP only (the scene refuses APIC).
+template <class Shape, bool kForce, bool kAffine = false, bool kAxisymmetric = false>
 void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
                const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
                SparseGrid::Nodes& nodes, P2GScratch& s) {
   constexpr bool kLanes = !kAffine;
+  static_assert(!(kAffine && kAxisymmetric), "APIC carries no hoop term");
   p2g_clear<kForce, kLanes>(s);
   Stencil<Shape> st;
   for (const std::uint32_t p : particles) {
     const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
     st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
-    const P2GPoint pt = p2g_point<kForce>(in, p);
+    const P2GPoint pt = p2g_point<kForce, kAxisymmetric>(in, p);
     if constexpr (kLanes) {
-      p2g_lanes<Shape, kForce>(st, pt, s);
+      p2g_lanes<Shape, kForce, kAxisymmetric>(st, pt, s);
     } else {
       p2g_affine<Shape, kForce>(in, p, st, xi, pt, s);
     }

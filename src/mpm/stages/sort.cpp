@@ -65,9 +65,15 @@ void sort(State& s) {
   const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
   const double* size0 = P.col(Field::size0).data();
   const kernels::StencilCache cache = s.stencils(kernels::StencilCache::kStore);
+  const bool rz = s.config.geometry == Geometry::axisymmetric;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
+                      if (rz) {
+                        kernels::store_stencils<Shape, true>(X, size0, ih, r.begin(), r.end(),
+                                                             cache);
+                      } else {
+                        kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
+                      }
                     });
   if (s.driven) s.driven->scatter<Shape>(P, s.grid, s.stencils(kernels::StencilCache::kLoad), ih);
 }
@@ -84,11 +90,14 @@ void compute_keys(State& s) {
   const double shift = Shape::kWidth == 3 ? 0.5 : 0.0;
   const double limit = static_cast<double>(SparseGrid::kMaxBlockCoord * SparseGrid::kBlock);
   const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  // Axisymmetric: the y stencil is the node y = 0 alone (kernels::store_stencils), in block 0.
+  const int dims = s.config.geometry == Geometry::axisymmetric ? 2 : 3;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t p = r.begin(); p < r.end(); ++p) {
-                        std::int64_t b[3];
-                        for (int d = 0; d < 3; ++d) {
+                        std::int64_t b[3] = {0, 0, 0};
+                        for (int k = 0; k < dims; ++k) {
+                          const int d = dims == 2 ? 2 * k : k;  // x, z in r-z
                           const double xi = X[d][p] * ih - shift;
                           // Out-of-range (or NaN) positions are caught by check_finite;
                           // clamp so the key stays defined meanwhile.
