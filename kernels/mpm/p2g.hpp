@@ -34,23 +34,39 @@ struct P2GScratch {
   double* q(int i) { return align64(q_) + 8 * i; }
 };
 
-// kForce: also scatter the internal force -V_p sigma_p . grad N_I (Eq. 29); otherwise only mass
-// and momentum (the MUSL remap of step 6 needs momentum alone).
-// kAffine: APIC momentum m_p (v_p + C_p (x_I - x_p)) instead of m_p v_p (Jiang et al. 2015,
-// Eq. 9 with C_p = B_p D_p^-1 taken as the grid velocity gradient). The shapes reproduce linear
-// fields, sum_I N_I (x_I - x_p) = 0, so the affine term moves no net momentum.
-template <class Shape, bool kForce, bool kAffine = false>
-void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
-               const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
-               SparseGrid::Nodes& nodes, P2GScratch& s) {
-  constexpr int W = Shape::kWidth;
-  constexpr int E = P2GScratch::kEdge;
-  // Without the affine term the node sums run in vector lanes, each lane with the operations of
-  // the scalar loop below (lanes.hpp): fma(c, N, sum) for mass and momentum, and for the force
-  // fma(mb, N, fma(s_z, g_z, fma(s_x, g_x, s_y g_y))) added to the sum, the FMAs GCC's
-  // -ffp-contract=fast made of the scalar expressions, so results are bitwise those of the
-  // scalar scatter.
-  constexpr bool kLanes = !kAffine;
+// The particle's own factors of the scatter: m_p, m_p v_p, the stress scaled by -V_p / h (so the
+// node loop multiplies by the per-cell gradients only) and m_p b_p.
+struct P2GPoint {
+  double m, mvx, mvy, mvz;
+  double sxx = 0.0, syy = 0.0, szz = 0.0, sxy = 0.0, syz = 0.0, sxz = 0.0;
+  double mbx = 0.0, mby = 0.0, mbz = 0.0;
+  double hoop = 0.0;  // axisymmetric: -V_p sigma_thetatheta / r_p, over 1/h as the stress above
+};
+
+// kAxisymmetric (r, z) = (x, z), the hoop direction y: the internal force on node I gains the
+// hoop term -V_p sigma_thetathetap N_I(x_p) / r_p in its radial component (Sulsky & Schreyer
+// 1996, CMAME 139, the axisymmetric weak form; NairnMPM MatPointAS::GetFintPlusFext, whose
+// zDeriv is N_I / r_p). V_p is the point's ring volume, m_p / rho_p with the ring's mass.
+template <bool kForce, bool kAxisymmetric = false>
+P2GPoint p2g_point(const P2GParticles& in, std::uint32_t p) {
+  P2GPoint q;
+  q.m = in.mass[p];
+  q.mvx = q.m * in.vx[p], q.mvy = q.m * in.vy[p], q.mvz = q.m * in.vz[p];
+  if constexpr (kForce) {
+    const double vol = q.m / in.rho[p];
+    const double k = -vol * in.inv_h;
+    q.sxx = k * in.sxx[p], q.syy = k * in.syy[p], q.szz = k * in.szz[p];
+    q.sxy = k * in.sxy[p], q.syz = k * in.syz[p], q.sxz = k * in.sxz[p];
+    if (in.bx) q.mbx = q.m * in.bx[p], q.mby = q.m * in.by[p], q.mbz = q.m * in.bz[p];
+    // k sigma N h / r_p = -V sigma N / r_p: the node loop multiplies by N (cell units, as above)
+    if constexpr (kAxisymmetric) q.hoop = q.syy / (in.x[p] * in.inv_h);
+  }
+  return q;
+}
+
+// Zeroes the scratch sums the scatter writes: the lanes, or the separate arrays.
+template <bool kForce, bool kLanes>
+void p2g_clear(P2GScratch& s) {
   if constexpr (kLanes) {
     std::fill(s.q(0), s.q(0) + 8 * P2GScratch::kSize, 0.0);
   } else {
@@ -64,106 +80,98 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
       std::fill(std::begin(s.fz), std::end(s.fz), 0.0);
     }
   }
+}
 
-  Stencil<Shape> st;
-  for (const std::uint32_t p : particles) {
-    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-    st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
-    const double m = in.mass[p];
-    const double mvx = m * in.vx[p], mvy = m * in.vy[p], mvz = m * in.vz[p];
-    // m_p C_p, and the node offsets x_I - x_p per axis
-    double mc[3][3] = {};
-    double ox[W] = {}, oy[W] = {}, oz[W] = {};
-    if constexpr (kAffine) {
-      for (int r = 0; r < 3; ++r) {
-        for (int q = 0; q < 3; ++q) mc[r][q] = m * in.vgrad[3 * r + q][p];
-      }
-      const double h = 1.0 / in.inv_h;
-      for (int a = 0; a < W; ++a) {
-        ox[a] = st.offset(0, a, xi[0], h);
-        oy[a] = st.offset(1, a, xi[1], h);
-        oz[a] = st.offset(2, a, xi[2], h);
-      }
-    }
-    double vol = 0.0, sxx = 0.0, syy = 0.0, szz = 0.0, sxy = 0.0, syz = 0.0, sxz = 0.0;
-    double mbx = 0.0, mby = 0.0, mbz = 0.0;
-    if constexpr (kForce) {
-      vol = m / in.rho[p];
-      // Scale by -V_p / h once so the node loop multiplies by the per-cell gradients only.
-      const double k = -vol * in.inv_h;
-      sxx = k * in.sxx[p], syy = k * in.syy[p], szz = k * in.szz[p];
-      sxy = k * in.sxy[p], syz = k * in.syz[p], sxz = k * in.sxz[p];
-      if (in.bx) mbx = m * in.bx[p], mby = m * in.by[p], mbz = m * in.bz[p];
-    }
-    if constexpr (kLanes) {
-      const Lanes<4> q = Lanes<4>::set(m, mvx, mvy, mvz);
-      const Lanes<4> sx = Lanes<4>::set(sxx, sxy, sxz, 0.0);
-      const Lanes<4> sy = Lanes<4>::set(sxy, syy, syz, 0.0);
-      const Lanes<4> sz = Lanes<4>::set(sxz, syz, szz, 0.0);
-      const Lanes<4> mb = Lanes<4>::set(mbx, mby, mbz, 0.0);
-      for (int a = 0; a < W; ++a) {
-        for (int b = 0; b < W; ++b) {
-          const double wab = st.w[0][a] * st.w[1][b];
-          const double gx_ab = st.dw[0][a] * st.w[1][b];
-          const double gy_ab = st.w[0][a] * st.dw[1][b];
-          const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
-          for (int c = 0; c < W; ++c) {
-            double* node = s.q(row + c);
-            const double N = wab * st.w[2][c];
-            const Lanes<4> n = Lanes<4>::splat(N);
-            fma(q, n, Lanes<4>::load(node)).store(node);
-            if constexpr (kForce) {
-              const Lanes<4> gx = Lanes<4>::splat(gx_ab * st.w[2][c]);
-              const Lanes<4> gy = Lanes<4>::splat(gy_ab * st.w[2][c]);
-              const Lanes<4> gz = Lanes<4>::splat(wab * st.dw[2][c]);
-              const Lanes<4> f = fma(mb, n, fma(sz, gz, fma(sx, gx, sy * gy)));  // Eqs. 29, 30
-              (Lanes<4>::load(node + 4) + f).store(node + 4);
-            }
-          }
-        }
-      }
-      continue;
-    }
-    for (int a = 0; a < W; ++a) {
-      for (int b = 0; b < W; ++b) {
-        const double wab = st.w[0][a] * st.w[1][b];
-        const double gx_ab = st.dw[0][a] * st.w[1][b];
-        const double gy_ab = st.w[0][a] * st.dw[1][b];
-        const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
-        // momentum per node: m v (+ m C (x_I - x_p), whose x and y parts are fixed for a, b)
-        double qx = mvx, qy = mvy, qz = mvz;
-        if constexpr (kAffine) {
-          qx += mc[0][0] * ox[a] + mc[0][1] * oy[b];
-          qy += mc[1][0] * ox[a] + mc[1][1] * oy[b];
-          qz += mc[2][0] * ox[a] + mc[2][1] * oy[b];
-        }
-        for (int c = 0; c < W; ++c) {
-          const int i = row + c;
-          const double N = wab * st.w[2][c];
-          s.m[i] += m * N;
-          if constexpr (kAffine) {
-            s.px[i] += (qx + mc[0][2] * oz[c]) * N;
-            s.py[i] += (qy + mc[1][2] * oz[c]) * N;
-            s.pz[i] += (qz + mc[2][2] * oz[c]) * N;
-          } else {
-            s.px[i] += qx * N;
-            s.py[i] += qy * N;
-            s.pz[i] += qz * N;
-          }
-          if constexpr (kForce) {
-            const double gx = gx_ab * st.w[2][c];
-            const double gy = gy_ab * st.w[2][c];
-            const double gz = wab * st.dw[2][c];
-            s.fx[i] += sxx * gx + sxy * gy + sxz * gz + mbx * N;  // Eqs. 29, 30
-            s.fy[i] += sxy * gx + syy * gy + syz * gz + mby * N;
-            s.fz[i] += sxz * gx + syz * gy + szz * gz + mbz * N;
-          }
+// One particle into the lanes of the scratch nodes (the FLIP scatter). Each lane does the
+// operations of the scalar loop (lanes.hpp): fma(c, N, sum) for mass and momentum, and for the
+// force fma(mb, N, fma(s_z, g_z, fma(s_x, g_x, s_y g_y))) added to the sum, the FMAs GCC's
+// -ffp-contract=fast made of the scalar expressions, so results are bitwise those of the
+// scalar scatter.
+// kAxisymmetric: the y gradient is zero (the degenerate y stencil), so the s_y g_y term carries
+// the hoop force instead: s_y = (hoop, 0, 0) and g_y = N (sigma_xy = sigma_yz = 0, no torsion).
+template <class Shape, bool kForce, bool kAxisymmetric = false>
+void p2g_lanes(const Stencil<Shape>& st, const P2GPoint& pt, P2GScratch& s) {
+  constexpr int W = Shape::kWidth;
+  constexpr int E = P2GScratch::kEdge;
+  const Lanes<4> q = Lanes<4>::set(pt.m, pt.mvx, pt.mvy, pt.mvz);
+  const Lanes<4> sx = Lanes<4>::set(pt.sxx, pt.sxy, pt.sxz, 0.0);
+  const Lanes<4> sy = kAxisymmetric ? Lanes<4>::set(pt.hoop, 0.0, 0.0, 0.0)
+                                    : Lanes<4>::set(pt.sxy, pt.syy, pt.syz, 0.0);
+  const Lanes<4> sz = Lanes<4>::set(pt.sxz, pt.syz, pt.szz, 0.0);
+  const Lanes<4> mb = Lanes<4>::set(pt.mbx, pt.mby, pt.mbz, 0.0);
+  for (int a = 0; a < W; ++a) {
+    for (int b = 0; b < W; ++b) {
+      const double wab = st.w[0][a] * st.w[1][b];
+      const double gx_ab = st.dw[0][a] * st.w[1][b];
+      const double gy_ab = st.w[0][a] * st.dw[1][b];
+      const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
+      for (int c = 0; c < W; ++c) {
+        double* node = s.q(row + c);
+        const double N = wab * st.w[2][c];
+        const Lanes<4> n = Lanes<4>::splat(N);
+        fma(q, n, Lanes<4>::load(node)).store(node);
+        if constexpr (kForce) {
+          const Lanes<4> gx = Lanes<4>::splat(gx_ab * st.w[2][c]);
+          const Lanes<4> gy = kAxisymmetric ? n : Lanes<4>::splat(gy_ab * st.w[2][c]);
+          const Lanes<4> gz = Lanes<4>::splat(wab * st.dw[2][c]);
+          const Lanes<4> f = fma(mb, n, fma(sz, gz, fma(sx, gx, sy * gy)));  // Eqs. 29, 30
+          (Lanes<4>::load(node + 4) + f).store(node + 4);
         }
       }
     }
   }
+}
 
-  // Add the scratch grid into the (up to 8) blocks it overlaps.
+// One particle into the separate scratch arrays (the APIC scatter: momentum per node
+// m v + m C (x_I - x_p), whose x and y parts are fixed for a, b).
+template <class Shape, bool kForce>
+void p2g_affine(const P2GParticles& in, std::uint32_t p, const Stencil<Shape>& st,
+                const double (&xi)[3], const P2GPoint& pt, P2GScratch& s) {
+  constexpr int W = Shape::kWidth;
+  constexpr int E = P2GScratch::kEdge;
+  double mc[3][3], ox[W], oy[W], oz[W];
+  for (int r = 0; r < 3; ++r) {
+    for (int q = 0; q < 3; ++q) mc[r][q] = pt.m * in.vgrad[3 * r + q][p];
+  }
+  const double h = 1.0 / in.inv_h;
+  for (int a = 0; a < W; ++a) {
+    ox[a] = st.offset(0, a, xi[0], h);
+    oy[a] = st.offset(1, a, xi[1], h);
+    oz[a] = st.offset(2, a, xi[2], h);
+  }
+  for (int a = 0; a < W; ++a) {
+    for (int b = 0; b < W; ++b) {
+      const double wab = st.w[0][a] * st.w[1][b];
+      const double gx_ab = st.dw[0][a] * st.w[1][b];
+      const double gy_ab = st.w[0][a] * st.dw[1][b];
+      const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
+      const double qx = pt.mvx + (mc[0][0] * ox[a] + mc[0][1] * oy[b]);
+      const double qy = pt.mvy + (mc[1][0] * ox[a] + mc[1][1] * oy[b]);
+      const double qz = pt.mvz + (mc[2][0] * ox[a] + mc[2][1] * oy[b]);
+      for (int c = 0; c < W; ++c) {
+        const int i = row + c;
+        const double N = wab * st.w[2][c];
+        s.m[i] += pt.m * N;
+        s.px[i] += (qx + mc[0][2] * oz[c]) * N;
+        s.py[i] += (qy + mc[1][2] * oz[c]) * N;
+        s.pz[i] += (qz + mc[2][2] * oz[c]) * N;
+        if constexpr (kForce) {
+          const double gx = gx_ab * st.w[2][c];
+          const double gy = gy_ab * st.w[2][c];
+          const double gz = wab * st.dw[2][c];
+          s.fx[i] += pt.sxx * gx + pt.sxy * gy + pt.sxz * gz + pt.mbx * N;  // Eqs. 29, 30
+          s.fy[i] += pt.sxy * gx + pt.syy * gy + pt.syz * gz + pt.mby * N;
+          s.fz[i] += pt.sxz * gx + pt.syz * gy + pt.szz * gz + pt.mbz * N;
+        }
+      }
+    }
+  }
+}
+
+// Adds the scratch grid into the (up to 8) blocks it overlaps.
+template <bool kForce, bool kLanes>
+void p2g_flush(P2GScratch& s, const std::uint32_t* neighbours, SparseGrid::Nodes& nodes) {
+  constexpr int E = P2GScratch::kEdge;
   constexpr int mask = SparseGrid::kBlock - 1;
   constexpr int bits = SparseGrid::kBlockBits;
   for (int lx = 0; lx < E; ++lx) {
@@ -196,6 +204,34 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
       }
     }
   }
+}
+
+// kForce: also scatter the internal force -V_p sigma_p . grad N_I (Eq. 29); otherwise only mass
+// and momentum (the MUSL remap of step 6 needs momentum alone).
+// kAffine: APIC momentum m_p (v_p + C_p (x_I - x_p)) instead of m_p v_p (Jiang et al. 2015,
+// Eq. 9 with C_p = B_p D_p^-1 taken as the grid velocity gradient). The shapes reproduce linear
+// fields, sum_I N_I (x_I - x_p) = 0, so the affine term moves no net momentum.
+// Without the affine term the node sums run in vector lanes (p2g_lanes).
+// kAxisymmetric: the hoop force of the r-z mode (p2g_point); FLIP only (the scene refuses APIC).
+template <class Shape, bool kForce, bool kAffine = false, bool kAxisymmetric = false>
+void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
+               const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
+               SparseGrid::Nodes& nodes, P2GScratch& s) {
+  constexpr bool kLanes = !kAffine;
+  static_assert(!(kAffine && kAxisymmetric), "APIC carries no hoop term");
+  p2g_clear<kForce, kLanes>(s);
+  Stencil<Shape> st;
+  for (const std::uint32_t p : particles) {
+    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+    st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+    const P2GPoint pt = p2g_point<kForce, kAxisymmetric>(in, p);
+    if constexpr (kLanes) {
+      p2g_lanes<Shape, kForce, kAxisymmetric>(st, pt, s);
+    } else {
+      p2g_affine<Shape, kForce>(in, p, st, xi, pt, s);
+    }
+  }
+  p2g_flush<kForce, kLanes>(s, neighbours, nodes);
 }
 
 // Mass gradient of one body's field, grad m_I = sum_p m_p grad N_I(x_p), whose direction gives

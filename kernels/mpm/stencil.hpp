@@ -94,11 +94,24 @@ struct Stencil {
   }
 };
 
+// The degenerate axis of the axisymmetric mode: node 0 with weight 1, derivative 0.
+template <int W>
+int degenerate_weights(double (&w)[W], double (&dw)[W]) {
+  for (int a = 0; a < W; ++a) w[a] = dw[a] = 0.0;
+  w[0] = 1.0;
+  return 0;
+}
+
 // Stores the stencils of particles [begin, end) in `cache` (StencilCache layout), straight from
 // the positions: the offset of the first node inside its owner block is its global index modulo
 // kBlock, since the owner block is the block of the first node (SparseGrid). One streaming pass
 // over the particles, vectorisable, instead of four evaluations inside the transfer loops.
-template <class Shape>
+//
+// kAxisymmetric (SolverConfig::Geometry): the y axis is degenerate, every point at y = 0 and its
+// y stencil the single node y = 0 with weight 1 and derivative 0 (the other W - 1 entries of
+// weight 0 add nothing). The grid is then one layer of nodes in (x, z) = (r, z), and every
+// transfer that reads the cache (P2G, G2P, remap, filters, velocity gradient) works in r-z.
+template <class Shape, bool kAxisymmetric = false>
 void store_stencils(const double* const (&x)[3], const double* size0, double inv_h,
                     std::size_t begin, std::size_t end, const StencilCache& cache) {
   constexpr int W = Shape::kWidth;
@@ -109,7 +122,8 @@ void store_stencils(const double* const (&x)[3], const double* size0, double inv
     unsigned packed = 0;
     for (int d = 0; d < 3; ++d) {
       double w[W], dw[W];
-      const int first = Shape::weights(x[d][p] * inv_h, lp, w, dw);
+      const int first = kAxisymmetric && d == 1 ? degenerate_weights<W>(w, dw)
+                                                : Shape::weights(x[d][p] * inv_h, lp, w, dw);
       for (int a = 0; a < W; ++a) {
         row[d * W + a] = w[a];
         row[(3 + d) * W + a] = dw[a];

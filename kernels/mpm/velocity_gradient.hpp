@@ -26,10 +26,12 @@ struct GradientParticles {
 using GradientWindow = NodeWindow<3>;
 
 // L_ij / (1/h) = sum_I v_iI G_Ij, with G_I = (w'_x w_y w_z, w_x w'_y w_z, w_x w_y w'_z) at
-// stencil node I (cell units). The three components of G_I sit in the lanes of one vector (the
-// fourth is zero), formed as (A_a B_b) C_c with A_a = (w'_x, w_x, w_x), B_b = (w_y, w'_y, w_y),
-// C_c = (w_z, w_z, w'_z): each lane the product of the scalar loop, in its order. Row r of L
-// then adds fma(v_rI, G_I, L_r) node by node (lanes.hpp): the scalar loop's operations.
+// stencil node I (cell units). The three components of G_I sit in the lanes of one vector, the
+// fourth holding N_I = w_x w_y w_z, formed as (A_a B_b) C_c with A_a = (w'_x, w_x, w_x, w_x),
+// B_b = (w_y, w'_y, w_y, w_y), C_c = (w_z, w_z, w'_z, w_z): each lane the product of the scalar
+// loop, in its order. Row r of L then adds fma(v_rI, G_I, L_r) node by node (lanes.hpp): the
+// scalar loop's operations; L[r][3] is the interpolated velocity sum_I N_I v_rI (read by the
+// axisymmetric mode's hoop rate; in 3-D the lane was idle and costs nothing).
 template <class Shape>
 void velocity_gradient_gather(const Stencil<Shape>& st, const GradientWindow& win,
                               double (&L)[3][4]) {
@@ -37,9 +39,9 @@ void velocity_gradient_gather(const Stencil<Shape>& st, const GradientWindow& wi
   const double(&v)[3][GradientWindow::kSize] = win.v;
   Lanes<4> A[W], B[W], C[W];
   for (int a = 0; a < W; ++a) {
-    A[a] = Lanes<4>::set(st.dw[0][a], st.w[0][a], st.w[0][a], 0.0);
-    B[a] = Lanes<4>::set(st.w[1][a], st.dw[1][a], st.w[1][a], 0.0);
-    C[a] = Lanes<4>::set(st.w[2][a], st.w[2][a], st.dw[2][a], 0.0);
+    A[a] = Lanes<4>::set(st.dw[0][a], st.w[0][a], st.w[0][a], st.w[0][a]);
+    B[a] = Lanes<4>::set(st.w[1][a], st.dw[1][a], st.w[1][a], st.w[1][a]);
+    C[a] = Lanes<4>::set(st.w[2][a], st.w[2][a], st.dw[2][a], st.w[2][a]);
   }
   Lanes<4> L0 = Lanes<4>::zero(), L1 = Lanes<4>::zero(), L2 = Lanes<4>::zero();
   for (int a = 0; a < W; ++a) {
@@ -62,7 +64,13 @@ void velocity_gradient_gather(const Stencil<Shape>& st, const GradientWindow& wi
 
 // Grid velocity in p*: after the MUSL remap (FLIP), or straight from the grid update (APIC).
 // Particles of one owner block that share one neighbour list; the window is the caller's scratch.
-template <class Shape>
+// kAxisymmetric: (r, z) = (x, z), the hoop direction y, whose stencil is degenerate (L_yj = 0,
+// L_iy = 0: no torsion); the hoop strain rate L_yy = v_r / r_p = sum_I N_I v_rI / r_p (Sulsky &
+// Schreyer 1996, CMAME 139; NairnMPM MatPointAS::UpdateStrain, dv(2,2) = sum v_x N_I / r_p),
+// which the constitutive update of any material then sees as the y stretch. Near the axis the
+// field v_r is odd in r (the symmetry face folds the ghost nodes), so sum N v_r -> 0 with r_p
+// and the ratio stays finite.
+template <class Shape, bool kAxisymmetric = false>
 void velocity_gradient_block(const GradientParticles& in, std::span<const std::uint32_t> particles,
                              const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
                              const SparseGrid::Nodes& nodes, GradientWindow& win) {
@@ -74,6 +82,7 @@ void velocity_gradient_block(const GradientParticles& in, std::span<const std::u
     st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
     alignas(32) double L[3][4];
     velocity_gradient_gather(st, win, L);
+    if constexpr (kAxisymmetric) L[1][1] = L[0][3] / xi[0];  // cell units, as the gradients
     if (in.vgrad[0] != nullptr) {
       for (int r = 0; r < 3; ++r) {
         for (int q = 0; q < 3; ++q) in.vgrad[3 * r + q][p] = in.inv_h * L[r][q];

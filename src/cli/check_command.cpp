@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 #include "refused.hpp"
+#include "resolution_advice.hpp"
 #include "shatter/mpm/simulation.hpp"
 #include "shatter/parallel/comm.hpp"
 #include "shatter/scene/build.hpp"
@@ -97,7 +98,9 @@ int check_command(const std::filesystem::path& scene_file, const RunOptions& opt
   }
   const int threads = threads_used(options.threads);
   fmt::print("scene {} ({}): valid, method {}\n", s.name, scene_file.string(), s.method);
-  if (s.symmetry_axis >= 0) {
+  if (s.solver.geometry == Geometry::axisymmetric) {
+    fmt::print("axisymmetric (r-z): points in the half-plane y = 0, r = x > 0, each a ring\n");
+  } else if (s.symmetry_axis >= 0) {
     fmt::print("half model: symmetry plane {} = 0, points on the positive side only\n",
                "xyz"[s.symmetry_axis]);
   }
@@ -111,6 +114,7 @@ int check_command(const std::filesystem::path& scene_file, const RunOptions& opt
                b.spacing, b.material.name, b.material.eos, b.material.strength,
                b.damage.model == "none" ? "" : ", damage " + b.damage.model);
   }
+  for (const std::string& line : resolution_advice(s)) fmt::print("{}\n", line);
   const bool counted = !e.bodies.empty() && e.bodies.front().counted;
   fmt::print("points: {}{}\n",
              counted ? fmt::format("{}", static_cast<std::size_t>(e.points))

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "mpm/axisymmetric.hpp"
 #include "mpm/loops.hpp"
 #include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
@@ -164,6 +165,7 @@ Simulation::Simulation(SolverConfig config, ParticleStore particles,
   state_ = std::make_unique<mpm::State>(config_, particles_, materials_, clock_, energy_, transfer,
                                         threads);
   mpm::State& s = *state_;
+  mpm::check_axisymmetric(config_, particles_, s.dist());
   s.contact = make_contact(config_.contact, particles_);
   const auto masses = particles_.col(Field::mass);
   s.empty_mass = 1e-12 * *std::min_element(masses.begin(), masses.end());

@@ -20,9 +20,15 @@ void check_lattice_rotation(const Scene& scene, const BodySpec& b) {
 
 void fill_and_check_bodies(Scene& scene) {
   const Domain& d = scene.solver.domain;
+  const bool rz = scene.solver.geometry == Geometry::axisymmetric;
   for (BodySpec& b : scene.bodies) {
-    check_lattice_rotation(scene, b);
-    b.fill = fill_lattice(b.shape, b.spacing, scene.symmetry_axis, b.lattice_rotation);
+    if (rz) {
+      check_axisymmetric_body(b);
+      b.fill = fill_lattice_rz(b.shape, b.spacing);
+    } else {
+      check_lattice_rotation(scene, b);
+      b.fill = fill_lattice(b.shape, b.spacing, scene.symmetry_axis, b.lattice_rotation);
+    }
     if (b.fill.points.empty()) {
       throw SceneError(b.where, "body." + b.name,
                        scene.symmetry_axis >= 0

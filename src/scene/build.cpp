@@ -69,8 +69,10 @@ BuiltScene build(const Scene& scene) {
       P.col(Field::vy)[p] = b.velocity.y();
       P.col(Field::vz)[p] = b.velocity.z();
       P.col(Field::rho)[p] = rho0;
-      P.col(Field::volume0)[p] = v0;
-      P.col(Field::mass)[p] = rho0 * v0;
+      // r-z: each point is a ring, of its own volume (fill_lattice_rz)
+      const double v = b.fill.volumes.empty() ? v0 : b.fill.volumes[k];
+      P.col(Field::volume0)[p] = v;
+      P.col(Field::mass)[p] = rho0 * v;
       P.col(Field::size0)[p] = b.spacing;
       P.col(Field::energy)[p] = b.energy;
       P.col(IField::id)[p] = next_id++;

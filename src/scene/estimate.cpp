@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -39,11 +40,32 @@ double kept_fraction(const Shape& shape, int axis) {
   return b.hi[axis] / (b.hi[axis] - b.lo[axis]);
 }
 
+bool rz(const Scene& scene) {
+  return scene.solver.geometry == Geometry::axisymmetric;
+}
+
+// Calls visit(point) for each point the body's fill would create: the 3-D lattice, or the r-z
+// half-plane's (fill_lattice_rz).
+void each_point(const Scene& scene, const BodySpec& b,
+                const std::function<void(const Vec3&)>& visit) {
+  if (rz(scene)) {
+    for_each_lattice_point_rz(b.shape, b.spacing, visit);
+  } else {
+    for_each_lattice_point(b.shape, b.spacing, scene.symmetry_axis, visit, b.lattice_rotation);
+  }
+}
+
 }  // namespace
 
 std::vector<BodyEstimate> estimate_points(const Scene& scene) {
   std::vector<BodyEstimate> out;
   for (const BodySpec& b : scene.bodies) {
+    if (rz(scene)) {  // the r-z plane's points are few: counted
+      double n = 0;
+      for_each_lattice_point_rz(b.shape, b.spacing, [&](const Vec3&) { n += 1; });
+      out.push_back({b.name, n, false});
+      continue;
+    }
     const Bounds bb = b.shape.bounds();
     const double volume = b.shape.exact_volume().value_or((bb.hi - bb.lo).prod());
     const double s3 = b.spacing * b.spacing * b.spacing;
@@ -56,9 +78,14 @@ std::vector<BodyEstimate> count_and_check_points(const Scene& scene) {
   const Domain& d = scene.solver.domain;
   std::vector<BodyEstimate> out;
   for (const BodySpec& b : scene.bodies) {
+    LatticeCount c;
+    if (rz(scene)) check_axisymmetric_body(b);
     check_lattice_rotation(scene, b);
-    const LatticeCount c =
-        count_lattice(b.shape, b.spacing, scene.symmetry_axis, b.lattice_rotation);
+    each_point(scene, b, [&](const Vec3& p) {
+      ++c.points;
+      c.lo = c.lo.cwiseMin(p);
+      c.hi = c.hi.cwiseMax(p);
+    });
     if (c.points == 0) {
       throw SceneError(b.where, "body." + b.name, "has no points: smaller than its spacing");
     }
@@ -78,12 +105,8 @@ std::vector<BodyEstimate> count_and_check_points(const Scene& scene) {
       const BodySpec& b = scene.bodies[j];
       if (!a.shape.bounds().intersects(b.shape.bounds())) continue;
       std::size_t inside = 0;
-      for_each_lattice_point(
-          b.shape, b.spacing, scene.symmetry_axis,
-          [&](const Vec3& p) { inside += a.shape.contains(p) ? 1 : 0; }, b.lattice_rotation);
-      for_each_lattice_point(
-          a.shape, a.spacing, scene.symmetry_axis,
-          [&](const Vec3& p) { inside += b.shape.contains(p) ? 1 : 0; }, a.lattice_rotation);
+      each_point(scene, b, [&](const Vec3& p) { inside += a.shape.contains(p) ? 1 : 0; });
+      each_point(scene, a, [&](const Vec3& p) { inside += b.shape.contains(p) ? 1 : 0; });
       if (inside > 0) {
         throw SceneError(
             b.where, "body." + b.name,

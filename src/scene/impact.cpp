@@ -125,6 +125,19 @@ std::optional<ImpactInput> read_impact(Reader& root, const Scene& scene) {
       r.fail("offset", fmt::format("must lie in the symmetry plane {} = 0", "xyz"[a]));
     }
   }
+  if (scene.solver.geometry == Geometry::axisymmetric) {
+    // r-z: the projectile moves along the axis of symmetry (issue 31: head-on impacts only).
+    if (in.angle_deg != 0.0) {
+      r.fail("angle",
+             "must be 0 with solver.geometry = \"axisymmetric\" (head-on impacts only; "
+             "an oblique impact has no axis of symmetry)");
+    }
+    if (std::abs(std::abs(in.direction.z()) - 1.0) > 1e-12) {
+      r.fail("direction",
+             "must be along z ([0, 0, -1] or [0, 0, 1]) with solver.geometry = "
+             "\"axisymmetric\" (the axis of symmetry is z)");
+    }
+  }
   in.where_direction = r.where("direction");
   in.where_offset = r.where("offset");
   return in;

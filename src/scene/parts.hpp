@@ -48,6 +48,10 @@ void apply_impact(const ImpactInput& in, Scene& scene);
 // Refuses a lattice rotation that a symmetry plane does not allow (a turn not about its normal).
 void check_lattice_rotation(const Scene& scene, const BodySpec& b);
 
+// solver.geometry = "axisymmetric" (src/scene/axisymmetric_check.cpp): refuses a body that is
+// not a body of revolution about the z axis or that moves off it, naming the key.
+void check_axisymmetric_body(const BodySpec& b);
+
 // Fills every body with points and checks them against each other and the domain.
 void fill_and_check_bodies(Scene& scene);
 

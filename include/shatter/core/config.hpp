@@ -124,7 +124,15 @@ struct MpiTuning {
   double imbalance = 1.2;
 };
 
+// The MPM geometry (issue 31). three_d: the paper's 3-D engine. axisymmetric: the same engine in
+// (r, z) = (x, z), torsion-free, every point at y = 0 standing for its full ring (mass and volume
+// weighted by 2 pi r; Sulsky & Schreyer 1996, CMAME 139), the y stencil one node of weight 1,
+// the hoop strain rate v_r / r in the velocity gradient and the hoop force in P2G, and the axis
+// r = 0 a symmetry face (docs/validation-axisymmetric.md).
+enum class Geometry : std::uint8_t { three_d, axisymmetric };
+
 struct SolverConfig {
+  Geometry geometry = Geometry::three_d;
   ShapeKind shape = ShapeKind::ugimp;
   TransferKind transfer = TransferKind::flip;
   // FLIP only: fraction of PIC velocity blended into the particle update, in [0, 1].

@@ -16,6 +16,9 @@ namespace shatter::scene {
 struct LatticeFill {
   std::vector<Vec3> points;
   double volume = 0.0;  // volume of shape ∩ kept half-space, measured on the lattice cells
+  // Each point's volume where they differ (the axisymmetric fill: each point is a ring); empty
+  // when every point has volume / points.
+  std::vector<double> volumes;
 };
 
 // Points at R ((i + 1/2) s, (j + 1/2) s, (k + 1/2) s) that lie inside `shape`, x fastest, with R
@@ -43,5 +46,15 @@ LatticeCount count_lattice(const Shape& shape, double spacing, int clip_axis = -
 void for_each_lattice_point(const Shape& shape, double spacing, int clip_axis,
                             const std::function<void(const Vec3&)>& visit,
                             const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity());
+
+// The axisymmetric (r-z) fill (SolverConfig::Geometry::axisymmetric; src/scene/lattice_rz.cpp):
+// points at ((i + 1/2) s, 0, (k + 1/2) s), i >= 0, in the half-plane y = 0, r = x > 0, that lie
+// inside `shape` (a body of revolution about the z axis, which the scene checks). Each point
+// stands for the ring its s x s cell sweeps about the axis, of volume 2 pi r s^2; the volumes
+// are scaled so that they add up to the body's volume of revolution, measured on the cells
+// (sub-sampled where a cell straddles the surface), as fill_lattice's equal volumes are.
+LatticeFill fill_lattice_rz(const Shape& shape, double spacing);
+void for_each_lattice_point_rz(const Shape& shape, double spacing,
+                               const std::function<void(const Vec3&)>& visit);
 
 }  // namespace shatter::scene

@@ -12,13 +12,19 @@
 namespace shatter::mpm {
 namespace {
 
+bool rz(const State& s) {
+  return s.config.geometry == Geometry::axisymmetric;
+}
+
 // One run of particles into the nodes of its neighbour list, the kernel chosen by what the
 // scatter carries: force (step 1) or momentum only, and APIC's affine momentum.
 template <class Shape>
 void scatter_run(const kernels::P2GParticles& in, std::span<const std::uint32_t> run,
                  const SparseGrid::Coord& owner, const std::uint32_t* nb, SparseGrid::Nodes& N,
-                 kernels::P2GScratch& scratch, bool with_force, bool affine) {
-  if (with_force && affine) {
+                 kernels::P2GScratch& scratch, bool with_force, bool affine, bool rz) {
+  if (with_force && rz) {  // the hoop force (kernels::p2g_point); the scene refuses rz APIC
+    kernels::p2g_block<Shape, true, false, true>(in, run, owner, nb, N, scratch);
+  } else if (with_force && affine) {
     kernels::p2g_block<Shape, true, true>(in, run, owner, nb, N, scratch);
   } else if (with_force) {
     kernels::p2g_block<Shape, true>(in, run, owner, nb, N, scratch);
@@ -51,7 +57,7 @@ void p2g_bodies(State& s, const kernels::P2GParticles& in, bool with_force) {
       for_each_list_run(grid, b, [&](auto run, std::uint32_t list) {
         const std::uint32_t* nb = grid.list(list);
         scatter_run<Shape>(in, run, grid.coord(b), nb, grid.nodes(), scratch, with_force,
-                           s.transfer.affine);
+                           s.transfer.affine, rz(s));
         if (with_force && list != b * 8) {
           kernels::mass_gradient_block<Shape>(in, run, grid.coord(b), nb, first_copy, grid.nodes(),
                                               scratch);
@@ -110,7 +116,7 @@ void p2g(State& s, bool with_force, double* const* velocity) {
     if (s.dist()) parallel::halo_zero(s, c, fields);
     colour_loop(grid, c, [&](std::uint32_t b, kernels::P2GScratch& scratch) {
       scatter_run<Shape>(in, grid.owned(b), grid.coord(b), grid.neighbours(b), grid.nodes(),
-                         scratch, with_force, s.transfer.affine);
+                         scratch, with_force, s.transfer.affine, rz(s));
     });
     if (s.dist()) parallel::halo_capture(s, c, fields);
   }

@@ -65,17 +65,22 @@ void sort(State& s) {
   const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
   const double* size0 = P.col(Field::size0).data();
   const kernels::StencilCache cache = s.stencils(kernels::StencilCache::kStore);
+  const bool rz = s.config.geometry == Geometry::axisymmetric;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
+                      if (rz) {
+                        kernels::store_stencils<Shape, true>(X, size0, ih, r.begin(), r.end(),
+                                                             cache);
+                      } else {
+                        kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
+                      }
                     });
   if (s.driven) s.driven->scatter<Shape>(P, s.grid, s.stencils(kernels::StencilCache::kLoad), ih);
 }
 
-}  // namespace
-
-template <class Shape>
-void compute_keys(State& s) {
+// kAxisymmetric: the y stencil is the node y = 0 alone (kernels::store_stencils), in block 0.
+template <class Shape, bool kAxisymmetric>
+void compute_keys_in(State& s) {
   ParticleStore& P = s.particles;
   const std::size_t n = P.size();
   s.owner_keys.resize(n);
@@ -87,8 +92,9 @@ void compute_keys(State& s) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t p = r.begin(); p < r.end(); ++p) {
-                        std::int64_t b[3];
+                        std::int64_t b[3] = {0, 0, 0};
                         for (int d = 0; d < 3; ++d) {
+                          if (kAxisymmetric && d == 1) continue;
                           const double xi = X[d][p] * ih - shift;
                           // Out-of-range (or NaN) positions are caught by check_finite;
                           // clamp so the key stays defined meanwhile.
@@ -98,6 +104,17 @@ void compute_keys(State& s) {
                         s.owner_keys[p] = SparseGrid::key(b[0], b[1], b[2]);
                       }
                     });
+}
+
+}  // namespace
+
+template <class Shape>
+void compute_keys(State& s) {
+  if (s.config.geometry == Geometry::axisymmetric) {
+    compute_keys_in<Shape, true>(s);
+  } else {
+    compute_keys_in<Shape, false>(s);
+  }
 }
 
 template <class Shape>

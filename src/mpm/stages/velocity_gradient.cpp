@@ -1,5 +1,5 @@
 // App. A.2 step 7a: strain and spin increments and the density update from the nodal
-// velocities (Eqs. 21, 23); APIC's C_p.
+// velocities (Eqs. 21, 23); APIC's C_p; the hoop rate of the axisymmetric mode.
 
 #include "mpm/loops.hpp"
 #include "mpm/stages/stages.hpp"
@@ -15,10 +15,15 @@ void velocity_gradient(State& s) {
   kernels::GradientParticles in = gradient_inputs(P, s.inv_h(), s.dt_step);
   in.stencil = s.stencils(kernels::StencilCache::kLoad);
   if (s.transfer.affine) vgrad_columns(P, in.vgrad);
+  const bool rz = s.config.geometry == Geometry::axisymmetric;  // the hoop rate v_r / r
   for_each_run<kernels::GradientWindow>(
       s.grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
                   const std::uint32_t* nb, kernels::GradientWindow& win) {
-        kernels::velocity_gradient_block<Shape>(in, run, owner, nb, s.grid.nodes(), win);
+        if (rz) {
+          kernels::velocity_gradient_block<Shape, true>(in, run, owner, nb, s.grid.nodes(), win);
+        } else {
+          kernels::velocity_gradient_block<Shape>(in, run, owner, nb, s.grid.nodes(), win);
+        }
       });
 }
 
