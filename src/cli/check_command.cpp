@@ -31,7 +31,7 @@ std::string stage_note(const std::string& name, const scene::Scene& s) {
   if (name == "p2g" || name == "g2p" || name == "xpic" || name == "fmpm") {
     return fmt::format("  (transfer: {})", name_of(s.solver.transfer));
   }
-  if (name == "migrate" || name == "halo") return "  (MPI exchange, src/parallel/mpm/)";
+  if (name == "migrate" || name.starts_with("halo")) return "  (MPI exchange, src/parallel/mpm/)";
   return "";
 }
 
