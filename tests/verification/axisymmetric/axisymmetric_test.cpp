@@ -107,7 +107,8 @@ TEST(Axisymmetric, UniformRadialExpansionIsRegularAtTheAxis) {
     const double dt = sim.clock().dt;
     sim.step();
     const ParticleStore& P = sim.particles();
-    const auto* el = dynamic_cast<const LinearElastic*>(basalt().get());
+    const auto model = basalt();  // held: the cast below must not outlive the model
+    const auto* el = dynamic_cast<const LinearElastic*>(model.get());
     const double G = el->shear_modulus(), lambda = el->bulk_modulus() - 2.0 * G / 3.0;
     const double exact = 2.0 * (lambda + G) * a * dt;
     double worst_axis = 0.0, worst_interior = 0.0, worst_ratio = 0.0;
