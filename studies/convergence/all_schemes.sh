@@ -34,6 +34,12 @@ for k in 2 5 10; do
   # shellcheck disable=SC2086
   run --shapes ugimp --problems bar $BAR --transfer fmpm --fmpm-order $k
 done
+# One point per cell per axis (issue 27's shock configuration) with FLIP, XPIC(2) and XPIC(5);
+# about 4 CPU-min.
+for scheme in "--transfer xpic --xpic-order 5" "--transfer flip" "--transfer xpic --xpic-order 2"; do
+  # shellcheck disable=SC2086
+  run --shapes ugimp --problems mms bar $MMS $BAR --points-per-cell 1 $scheme
+done
 # The other shapes with FLIP, as before (B-spline with mirrored walls: the first-order fixed-wall
 # rows are gone since the fixed-wall image of Boundaries::mirror).
 run --shapes linear bspline2 --problems mms bar $MMS $BAR --transfer flip
