@@ -31,6 +31,9 @@ from pathlib import Path
 COLUMNS = ["radius_m", "speed_km_s", "angle_deg", "method", "material", "qstar_J_per_kg", "runs",
            "points_per_target"]
 # BA99 Table III (basalt): Q*_D = Q0 (R / 1 cm)^a + B rho (R / 1 cm)^b, Q in erg/g, rho in g/cm^3.
+# Not verified against the paper (its table could not be read; docs/validation-qstar.md, "The fit
+# constants"): the 3 km/s row matches the one secondary transcription found, the 5 km/s row
+# matches one and differs from another (Q0 = 7.0e7, a = -0.38).
 BA99_FIT = {3.0: (3.5e7, -0.38, 0.3, 1.36), 5.0: (9.0e7, -0.36, 0.5, 1.36)}
 
 
