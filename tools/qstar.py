@@ -219,16 +219,18 @@ def plot(csv_path, png):
                   label=f"BA99 fit {v:g} km/s (Table III, unverified)")
     groups = {}
     for r in rows:
-        key = (r["method"], r["speed_km_s"], r.get("points_per_radius", "?"))
+        key = (r["method"], r["speed_km_s"], float(r.get("points_per_radius") or 0),
+               float(r.get("crossings") or 0))
         groups.setdefault(key, []).append(r)
-    for (method, speed, ppr), rs in sorted(groups.items()):
+    for (method, speed, ppr, crossings), rs in sorted(groups.items()):
         rs.sort(key=lambda r: float(r["radius_m"]))
         x = [float(r["radius_m"]) for r in rs]
         y = [float(r["qstar_J_per_kg"]) for r in rs]
         lo = [yy - float(r.get("q_lo_J_per_kg") or yy) for r, yy in zip(rs, y)]
         hi = [float(r.get("q_hi_J_per_kg") or yy) - yy for r, yy in zip(rs, y)]
         ax.errorbar(x, y, yerr=[lo, hi], fmt="o-", ms=4, capsize=2,
-                    label=f"shatter {method.upper()} {float(speed):g} km/s, {ppr} points/radius")
+                    label=f"shatter {method.upper()} {float(speed):g} km/s, {ppr:g} points/radius, "
+                    f"{crossings:g} crossings")
     ax.set_xlabel("target radius (m)")
     ax.set_ylabel("Q*_D (J/kg)")
     ax.set_title("Basalt (BA99), 45 degrees", fontsize=10)
