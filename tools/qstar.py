@@ -228,7 +228,8 @@ def plot(csv_path, png):
         y = [float(r["qstar_J_per_kg"]) for r in rs]
         lo = [yy - float(r.get("q_lo_J_per_kg") or yy) for r, yy in zip(rs, y)]
         hi = [float(r.get("q_hi_J_per_kg") or yy) - yy for r, yy in zip(rs, y)]
-        ax.errorbar(x, y, yerr=[lo, hi], fmt="o-", ms=4, capsize=2,
+        # a line only through a curve (3 sizes or more), not between two spot checks
+        ax.errorbar(x, y, yerr=[lo, hi], fmt="o-" if len(rs) > 2 else "s", ms=4, capsize=2,
                     label=f"shatter {method.upper()} {float(speed):g} km/s, {ppr:g} points/radius, "
                     f"{crossings:g} crossings")
     ax.set_xlabel("target radius (m)")
