@@ -24,13 +24,20 @@ import csv
 import json
 import math
 import os
+import re
+import resource
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 COLUMNS = ["radius_m", "speed_km_s", "angle_deg", "method", "material", "qstar_J_per_kg", "runs",
-           "points_per_target"]
+           "points_per_target", "points_per_radius", "crossings", "q_lo_J_per_kg", "q_hi_J_per_kg",
+           "f_lo", "f_hi", "tolerance", "cpu_s", "ba99_fit_J_per_kg"]
 # BA99 Table III (basalt): Q*_D = Q0 (R / 1 cm)^a + B rho (R / 1 cm)^b, Q in erg/g, rho in g/cm^3.
+# Not verified against the paper (its table could not be read; docs/validation-qstar.md, "The fit
+# constants"): the 3 km/s row matches the one secondary transcription found, the 5 km/s row
+# matches one and differs from another (Q0 = 7.0e7, a = -0.38).
 BA99_FIT = {3.0: (3.5e7, -0.38, 0.3, 1.36), 5.0: (9.0e7, -0.36, 0.5, 1.36)}
 
 
@@ -96,8 +103,30 @@ snapshot_every = 0.0
 """
 
 
+def body_masses(shatter, snapshot, prefix):
+    """Target and projectile masses (kg) at t = 0. The target's is the sum of the fragment
+    table's target composition column (nothing is damaged at t = 0: the whole target is in
+    fragments, which the check below enforces); the projectile's is the rest of the total (a
+    sub-resolution impactor's few points are dust to the clustering)."""
+    subprocess.run([shatter, "fragments", str(snapshot), "--prefix", str(prefix), "--quiet"],
+                   check=True, stdout=subprocess.DEVNULL)
+    lines = Path(str(prefix) + ".csv").read_text().splitlines()
+    total = float(lines[0].split("total_mass_kg=")[1].split()[0])
+    rows = list(csv.DictReader(lines[1:]))
+    target = sum(float(r["mass_body_target_kg"]) for r in rows)
+    in_fragments = sum(float(r["mass_kg"]) for r in rows)
+    projectile = total - target
+    if not (0.0 < projectile < 0.5 * target) or in_fragments < target:
+        raise RuntimeError(f"{snapshot}: target {target} kg, projectile {projectile} kg: the "
+                           "t = 0 fragment table does not separate the bodies")
+    return target, projectile
+
+
 def trial(o, q):
-    """Runs one trial (or reads its finished result): the bound fraction of the target mass."""
+    """Runs one trial (or reads its finished result): the bound remnant's mass over the target's
+    and Q from the lattice masses. q is the requested Q; the impactor's lattice holds a slightly
+    different mass than its sphere, so the trial's actual Q = (1/2) m_imp v^2 / M_target is
+    measured from the t = 0 snapshot and is what the result reports."""
     run_dir = Path(o.work) / f"q_{q:.6e}"
     result = run_dir / "result.json"
     if result.exists():
@@ -107,16 +136,26 @@ def trial(o, q):
     scene.write_text(scene_text(o, q, run_dir / "out"))
     env = dict(os.environ, OMP_NUM_THREADS="1")
     threads = ["--threads", str(o.threads)] if o.threads else []
-    subprocess.run([o.shatter, "run", str(scene), *threads], check=True, env=env,
-                   stdout=subprocess.DEVNULL)
+    cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    wall0 = time.time()
+    with open(run_dir / "run.log", "w") as log:
+        subprocess.run([o.shatter, "run", str(scene), *threads], check=True, env=env, stdout=log,
+                       stderr=subprocess.STDOUT)
     snaps = sorted((run_dir / "out" / "snapshots").glob("snapshot_*.h5"))
-    if not snaps:
-        raise RuntimeError(f"{run_dir}: the run wrote no snapshot")
-    subprocess.run([o.shatter, "fragments", str(snaps[-1])], check=True, stdout=subprocess.DEVNULL)
+    if len(snaps) < 2:
+        raise RuntimeError(f"{run_dir}: the run wrote fewer than two snapshots")
+    subprocess.run([o.shatter, "fragments", str(snaps[-1]), "--quiet"], check=True,
+                   stdout=subprocess.DEVNULL)
     bound = json.loads(next(snaps[-1].parent.glob(snaps[-1].stem + "*_bound.json")).read_text())
-    total = bound["mass_kg"] / bound["mass_fraction"] if bound["mass_fraction"] > 0 else 0.0
-    ratio = o.radius ** 3 / (o.radius ** 3 + (o.radius * (2.0 * q / (o.speed * 1e3) ** 2) ** (1 / 3)) ** 3)
-    out = {"q": q, "fraction": bound["mass_kg"] / (total * ratio) if total > 0 else 0.0}
+    m_target, m_imp = body_masses(o.shatter, snaps[0], run_dir / "out" / "initial")
+    cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    points = re.search(r"body target: .*?, (\d+) points", (run_dir / "run.log").read_text())
+    v = o.speed * 1e3
+    out = {"q": q, "q_actual": 0.5 * m_imp * v * v / m_target,
+           "fraction": bound["mass_kg"] / m_target, "target_points": int(points.group(1)),
+           "dust_points_bound": bound.get("dust_points", 0), "wall_s": time.time() - wall0,
+           # the children's CPU time: this trial's alone when --jobs 1
+           "cpu_s": (cpu1.ru_utime + cpu1.ru_stime) - (cpu0.ru_utime + cpu0.ru_stime)}
     result.write_text(json.dumps(out))
     return out
 
@@ -125,10 +164,11 @@ def evaluate(o, qs, cache):
     todo = [q for q in qs if f"{q:.6e}" not in cache]
     with concurrent.futures.ThreadPoolExecutor(max_workers=o.jobs) as pool:
         for q, r in zip(todo, pool.map(lambda q: trial(o, q), todo)):
-            cache[f"{q:.6e}"] = r["fraction"]
-            print(f"Q = {q:.4g} J/kg: bound fraction {r['fraction']:.3f}", flush=True)
+            cache[f"{q:.6e}"] = r
+            print(f"Q = {r['q_actual']:.4g} J/kg (asked {q:.4g}): bound fraction "
+                  f"{r['fraction']:.3f}, {r['cpu_s']:.0f} s CPU", flush=True)
     (Path(o.work) / "results.json").write_text(json.dumps(cache, indent=1))
-    return [cache[f"{q:.6e}"] for q in qs]
+    return [cache[f"{q:.6e}"]["fraction"] for q in qs]
 
 
 def bracket(o, cache):
@@ -152,42 +192,58 @@ def bisect(o, cache, lo, hi):
             else:
                 hi = min(hi, q)
                 break
-    return math.sqrt(lo * hi)
+    return lo, hi
 
 
-def append_row(o, qstar, runs):
+def append_row(o, row):
     path = Path(o.csv)
     new = not path.exists()
     with path.open("a", newline="") as f:
         w = csv.writer(f)
         if new:
             w.writerow(COLUMNS)
-        points = round(4.0 / 3.0 * math.pi * (o.points_per_radius / 2.0) ** 3 * 8)
-        w.writerow([o.radius, o.speed, o.angle, o.method, o.material, f"{qstar:.6g}", runs, points])
+        w.writerow([row[c] for c in COLUMNS])
 
 
 def plot(csv_path, png):
+    """Every CSV row, grouped by method, speed and resolution, with its bracket as an error bar,
+    against BA99's fitted curves (constants unverified: docs/validation-qstar.md)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     rows = list(csv.DictReader(open(csv_path)))
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    radii = [10 ** (e / 10) for e in range(-20, 51)]
+    fig, ax = plt.subplots(figsize=(6.5, 4.8))
+    radii = [10 ** (e / 10) for e in range(-25, 51)]
     for v, style in ((3.0, "--"), (5.0, ":")):
-        ax.loglog(radii, [ba99_qstar(r, v) for r in radii], "k" + style, label=f"BA99 fit {v:g} km/s")
+        ax.loglog(radii, [ba99_qstar(r, v) for r in radii], "k" + style,
+                  label=f"BA99 fit {v:g} km/s (Table III, unverified)")
+    groups = {}
     for r in rows:
-        ax.loglog(float(r["radius_m"]), float(r["qstar_J_per_kg"]), "o",
-                  label=f"{r['method']} {r['speed_km_s']} km/s")
+        key = (r["method"], r["speed_km_s"], float(r.get("points_per_radius") or 0),
+               float(r.get("crossings") or 0))
+        groups.setdefault(key, []).append(r)
+    for (method, speed, ppr, crossings), rs in sorted(groups.items()):
+        rs.sort(key=lambda r: float(r["radius_m"]))
+        x = [float(r["radius_m"]) for r in rs]
+        y = [float(r["qstar_J_per_kg"]) for r in rs]
+        lo = [yy - float(r.get("q_lo_J_per_kg") or yy) for r, yy in zip(rs, y)]
+        hi = [float(r.get("q_hi_J_per_kg") or yy) - yy for r, yy in zip(rs, y)]
+        # a line only through a curve (3 sizes or more), not between two spot checks
+        ax.errorbar(x, y, yerr=[lo, hi], fmt="o-" if len(rs) > 2 else "s", ms=4, capsize=2,
+                    label=f"shatter {method.upper()} {float(speed):g} km/s, {ppr:g} points/radius, "
+                    f"{crossings:g} crossings")
     ax.set_xlabel("target radius (m)")
     ax.set_ylabel("Q*_D (J/kg)")
-    ax.legend(fontsize=8)
+    ax.set_title("Basalt (BA99), 45 degrees", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(True, which="major", alpha=0.3)
     fig.tight_layout()
     fig.savefig(png, dpi=120)
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--radius", type=float, required=True, help="target radius, m")
+    p.add_argument("--radius", type=float, help="target radius, m (required unless --plot-only)")
     p.add_argument("--speed", type=float, default=3.0, help="impact speed, km/s")
     p.add_argument("--angle", type=float, default=45.0, help="impact angle, degrees")
     p.add_argument("--material", default="basalt_ba99")
@@ -206,17 +262,35 @@ def main():
     p.add_argument("--jobs", type=int, default=1, help="trials run at once")
     p.add_argument("--threads", type=int, default=0, help="threads per trial (0 = shatter's default)")
     p.add_argument("--shatter", default="build/release/shatter")
-    p.add_argument("--work", required=True, help="trial directory (restartable)")
+    p.add_argument("--work", help="trial directory (restartable; required unless --plot-only)")
     p.add_argument("--csv", default="docs/qstar.csv")
     p.add_argument("--plot", help="PNG of every CSV row against BA99's fits")
+    p.add_argument("--plot-only", action="store_true", help="redraw --plot from --csv and stop")
     o = p.parse_args()
+    if o.plot_only:
+        plot(o.csv, o.plot)
+        return
+    if o.radius is None or o.work is None:
+        p.error("--radius and --work are required (unless --plot-only)")
     Path(o.work).mkdir(parents=True, exist_ok=True)
     cache_file = Path(o.work) / "results.json"
     cache = json.loads(cache_file.read_text()) if cache_file.exists() else {}
-    lo, hi = bracket(o, cache)
-    qstar = bisect(o, cache, lo, hi)
-    print(f"Q*_D = {qstar:.4g} J/kg (bracket {lo:.4g} .. {hi:.4g}, {len(cache)} runs)")
-    append_row(o, qstar, len(cache))
+    lo, hi = bisect(o, cache, *bracket(o, cache))
+    r_lo, r_hi = cache[f"{lo:.6e}"], cache[f"{hi:.6e}"]
+    # Q*_D: the geometric mean of the bracket's actual (lattice) Qs
+    qstar = math.sqrt(r_lo["q_actual"] * r_hi["q_actual"])
+    fit = ba99_qstar(o.radius, o.speed) if o.speed in BA99_FIT else float("nan")
+    print(f"Q*_D = {qstar:.4g} J/kg (bracket {r_lo['q_actual']:.4g} .. {r_hi['q_actual']:.4g}, "
+          f"{len(cache)} runs; BA99 fit {fit:.4g})")
+    append_row(o, {"radius_m": o.radius, "speed_km_s": o.speed, "angle_deg": o.angle,
+                   "method": o.method, "material": o.material, "qstar_J_per_kg": f"{qstar:.6g}",
+                   "runs": len(cache), "points_per_target": r_lo["target_points"],
+                   "points_per_radius": o.points_per_radius, "crossings": o.crossings,
+                   "q_lo_J_per_kg": f"{r_lo['q_actual']:.6g}",
+                   "q_hi_J_per_kg": f"{r_hi['q_actual']:.6g}", "f_lo": f"{r_lo['fraction']:.4f}",
+                   "f_hi": f"{r_hi['fraction']:.4f}", "tolerance": o.tolerance,
+                   "cpu_s": f"{sum(r['cpu_s'] for r in cache.values()):.0f}",
+                   "ba99_fit_J_per_kg": f"{fit:.6g}"})
     if o.plot:
         plot(o.csv, o.plot)
 

@@ -66,13 +66,14 @@ FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_
   write_fragments_csv(cat, with_ext(".csv"));
   write_fragments_hdf5(cat, with_ext(".h5"));
   write_hand_off(cat, full, spec, with_ext, info);
-  const BoundRemnant bound = bound_remnant(cat, gravity::kNewtonG);  // BA99's bound remnant
+  // BA99's bound remnant, the dust points as bodies of their own (a shattered body is dust)
+  const BoundRemnant bound = bound_remnant_with_dust(cat, full, gravity::kNewtonG);
   write_bound_remnant_json(bound, cat, with_ext("_bound.json"));
   spdlog::info(
-      "bound remnant (BA99): m = {:.4g} kg ({:.3g} of total), {} fragments, |v| = {:.4g} "
-      "m/s, spin {:.4g} rad/s; written to {}_bound.json",
+      "bound remnant (BA99): m = {:.4g} kg ({:.3g} of total), {} fragments and {} dust points "
+      "(seed: {}), |v| = {:.4g} m/s, spin {:.4g} rad/s; written to {}_bound.json",
       bound.mass, cat.total_mass > 0.0 ? bound.mass / cat.total_mass : 0.0, bound.members.size(),
-      bound.speed(), bound.spin(), prefix.string());
+      bound.dust_points, bound.seed, bound.speed(), bound.spin(), prefix.string());
   const char* model = symmetry_axis >= 0 ? "the mirrored body (half model mirrored)" : "the model";
   spdlog::info(
       "{} fragments (D < {}) of {}, dust {:.3g} kg of {:.3g} kg; written to {}.csv/.h5/.ss{}",

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -27,12 +28,28 @@ struct BoundRemnant {
   Eigen::Vector3d omega = Eigen::Vector3d::Zero();  // I^-1 L, rad/s
   std::vector<std::int64_t> members;                // fragment ids, largest first
   int iterations = 0;                               // passes until the fixed point
+  // bound_remnant_with_dust only: the dust points in the remnant, their mass, and which start
+  // gave the larger aggregate ("largest fragment" or "self-bound bulk").
+  bool with_dust = false;
+  double dust_mass = 0.0;  // kg
+  std::int64_t dust_points = 0;
+  std::string seed = "largest fragment";
   double speed() const { return velocity.norm(); }
   double spin() const { return omega.norm(); }
 };
 
 // G: the constant of gravitation (gravity::kNewtonG in SI; other values for tests in G = 1 units).
 BoundRemnant bound_remnant(const FragmentCatalogue& cat, double G);
+
+// The same criterion with every dust point (IField::fragment < 0 in `store`, the store the
+// catalogue was found from) as a body of its own beside the fragments, as BA99 do with their
+// SPH particles: in the gravity regime the target is shattered to dust and its bulk is still
+// bound. Two starts, the larger bound aggregate wins: BA99's growth from the largest fragment,
+// and the bulk bound to itself (every body, dropping those not bound to the aggregate of the
+// rest until none is dropped, then grown again). Throws std::invalid_argument when the store
+// has no fragment labels.
+BoundRemnant bound_remnant_with_dust(const FragmentCatalogue& cat, const ParticleStore& store,
+                                     double G);
 
 // PREFIX_bound.json beside the fragment table: mass (kg and fraction of the total), centre,
 // velocity and speed, spin vector and rate, member fragment ids, passes.
