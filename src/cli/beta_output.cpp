@@ -40,9 +40,31 @@ void BetaOutput::sample(io::TimeSeriesRow& r, double time, const ParticleStore& 
   r.beta_target = b.beta_target;
   // The launch record (Housen & Holsapple 2011's M(>v)) at the same samples.
   const ParticleStore& every = all();
+  if (comm.rank() == 0 && time == 0.0) warn_if_above(every);
   if (comm.rank() == 0) {
     launches_.record(every, spec_, time, b.impactor_momentum / spec_.impact_speed);
     r.beta_launch = launches_.beta_at_launch(spec_.escape_speed);  // only rank 0 writes rows
+  }
+}
+
+void BetaOutput::warn_if_above(const ParticleStore& store) const {
+  // The launch count assumes the target starts below the control plane (a flat surface): a
+  // point above it is "launched" the first time it moves outward, however slowly.
+  const auto m = store.col(Field::mass);
+  const auto body = store.col(IField::body);
+  double above = 0.0, total = 0.0;
+  for (std::size_t p = 0; p < store.size(); ++p) {
+    if (body[p] == spec_.impactor) continue;
+    const Eigen::Vector3d x(store.col(Field::x)[p], store.col(Field::y)[p], store.col(Field::z)[p]);
+    total += m[p];
+    if ((x - spec_.surface_point).dot(spec_.normal) > 0.0) above += m[p];
+  }
+  if (above > 0.0) {
+    spdlog::warn(
+        "beta: {:.3g} of the non-impactor mass starts above the control plane (beta.surface, "
+        "beta.normal): beta_launch and ejecta_launch.csv count it as launched when it first "
+        "moves outward; they are meant for a flat target surface (docs/validation-dart.md)",
+        above / total);
   }
 }
 

@@ -30,6 +30,9 @@ class BetaOutput {
   bool resume(double time);
 
  private:
+  // Warns when non-impactor points start above the control plane (not a flat target).
+  void warn_if_above(const ParticleStore& store) const;
+
   BetaSpec spec_;
   std::filesystem::path file_;
   EjectaLaunches launches_;
