@@ -32,7 +32,10 @@ void BetaOutput::sample(io::TimeSeriesRow& r, double time, const ParticleStore& 
                 limbs.begin() + static_cast<long>(k + 1) * L, sums[k].limbs().begin());
     }
   }
-  const BetaSample b = beta_sample(sums, spec_);
+  // p_imp from the impactor's mass at the first sample (kept in the launch table, so a resume
+  // has it too): impactor points that leave the domain later must not shrink it.
+  if (launches_.impactor_mass() == 0.0) launches_.set_impactor(sums[2].value(), spec_.impact_speed);
+  const BetaSample b = beta_sample(sums, spec_, launches_.impactor_mass());
   r.ejecta_mass = b.ejecta_mass;
   r.ejecta_momentum = b.ejecta_momentum;
   r.impactor_momentum = b.impactor_momentum;
@@ -42,7 +45,7 @@ void BetaOutput::sample(io::TimeSeriesRow& r, double time, const ParticleStore& 
   const ParticleStore& every = all();
   if (comm.rank() == 0 && time == 0.0) warn_if_above(every);
   if (comm.rank() == 0) {
-    launches_.record(every, spec_, time, b.impactor_momentum / spec_.impact_speed);
+    launches_.record(every, spec_, time);
     r.beta_launch = launches_.beta_at_launch(spec_.escape_speed);  // only rank 0 writes rows
   }
 }

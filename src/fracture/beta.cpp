@@ -38,11 +38,11 @@ BetaSums beta_sums(const ParticleStore& store, const BetaSpec& spec) {
   return s;
 }
 
-BetaSample beta_sample(BetaSums& sums, const BetaSpec& spec) {
+BetaSample beta_sample(BetaSums& sums, const BetaSpec& spec, double impactor_mass) {
   BetaSample b;
   b.ejecta_mass = sums[0].value();
   b.ejecta_momentum = sums[1].value();
-  b.impactor_momentum = sums[2].value() * spec.impact_speed;
+  b.impactor_momentum = impactor_mass * spec.impact_speed;
   if (b.impactor_momentum > 0.0) {
     b.beta = 1.0 + b.ejecta_momentum / b.impactor_momentum;
     b.beta_target = sums[3].value() / b.impactor_momentum;
@@ -52,7 +52,7 @@ BetaSample beta_sample(BetaSums& sums, const BetaSpec& spec) {
 
 BetaSample measure_beta(const ParticleStore& store, const BetaSpec& spec) {
   auto s = beta_sums(store, spec);
-  return beta_sample(s, spec);
+  return beta_sample(s, spec, s[2].value());
 }
 
 }  // namespace shatter

@@ -20,10 +20,7 @@ constexpr std::string_view kHeader =
 
 }  // namespace
 
-void EjectaLaunches::record(const ParticleStore& store, const BetaSpec& spec, double time,
-                            double impactor_mass) {
-  impactor_mass_ = impactor_mass;
-  impact_speed_ = spec.impact_speed;
+void EjectaLaunches::record(const ParticleStore& store, const BetaSpec& spec, double time) {
   BetaSpec any_speed = spec;
   any_speed.escape_speed = 0.0;  // the whole launch distribution; a reader cuts at v_esc
   const auto m = store.col(Field::mass);

@@ -56,8 +56,11 @@ struct BetaSample {
 bool is_ejecta(const BetaSpec& spec, const Eigen::Vector3d& x, const Eigen::Vector3d& v);
 
 BetaSums beta_sums(const ParticleStore& store, const BetaSpec& spec);
-// beta from the sums; beta = 1 and beta_target = 0 when there is no impactor mass.
-BetaSample beta_sample(BetaSums& sums, const BetaSpec& spec);
+// beta from the sums with the impactor's mass before the impact, m_imp (kg: the run's first
+// sample; impactor points that later leave through an outflow face must not change p_imp);
+// beta = 1 and beta_target = 0 when m_imp is 0.
+BetaSample beta_sample(BetaSums& sums, const BetaSpec& spec, double impactor_mass);
+// From the present points alone (m_imp = the impactor points' mass now).
 BetaSample measure_beta(const ParticleStore& store, const BetaSpec& spec);
 
 }  // namespace shatter

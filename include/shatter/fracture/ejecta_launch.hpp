@@ -29,9 +29,15 @@ struct EjectaLaunch {
 
 class EjectaLaunches {
  public:
-  // Adds the points that are ejecta now and were not before (every body's points);
-  // `impactor_mass` (kg) goes to the table's first line with spec.impact_speed.
-  void record(const ParticleStore& store, const BetaSpec& spec, double time, double impactor_mass);
+  // The impactor's mass before the impact and its speed (the table's first line; read back by
+  // read()).
+  void set_impactor(double mass, double speed) {
+    impactor_mass_ = mass;
+    impact_speed_ = speed;
+  }
+  double impactor_mass() const { return impactor_mass_; }
+  // Adds the points that are ejecta now and were not before (every body's points).
+  void record(const ParticleStore& store, const BetaSpec& spec, double time);
 
   // The table as CSV: a comment line with the impactor's momentum, then one row per launched
   // point, fastest first, with the cumulative mass of the points at least as fast.

@@ -119,6 +119,17 @@ TEST(Beta, ObliqueDirectionProjectsOnTheImpactVelocity) {
   EXPECT_NEAR(b.beta, 1.0 + 1.6 / 10.0, 1e-15);
 }
 
+TEST(Beta, ImpactorMassBeforeTheImpactSetsPimp) {
+  // An impactor point that has left the domain must not change p_imp: beta_sample takes the
+  // mass of the first sample. Here the buried impactor lost half its points (1 of 2 kg).
+  auto pts = after_impact();
+  pts[0].m = 1.0;
+  auto s = beta_sums(store_of(pts), down_spec());
+  const BetaSample b = beta_sample(s, down_spec(), 2.0);
+  EXPECT_EQ(b.impactor_momentum, 8.0);
+  EXPECT_EQ(b.beta, 1.0 + 7.0 / 8.0);
+}
+
 TEST(Beta, SameBitsInAnyParticleOrder) {
   // Random non-integer values: the exact sums make the result independent of the order.
   std::mt19937 rng(7);
@@ -144,7 +155,8 @@ TEST(EjectaLaunches, FirstCrossingIsRecordedOnceAndSortedBySpeed) {
   const BetaSpec spec = down_spec();
   auto pts = after_impact();
   EjectaLaunches l;
-  l.record(store_of(pts), spec, 1.0, 2.0);
+  l.set_impactor(2.0, 4.0);
+  l.record(store_of(pts), spec, 1.0);
   ASSERT_EQ(l.size(), 2U);
   EXPECT_EQ(l.launches().at(1).radius, 1.0);  // (1, 0) from the axis through the origin
   EXPECT_EQ(l.launches().at(1).height, 2.0);
@@ -157,7 +169,7 @@ TEST(EjectaLaunches, FirstCrossingIsRecordedOnceAndSortedBySpeed) {
   // added, the others keep their launch values.
   pts[3].v.z() = 1.0;
   pts[1].v *= 10.0;
-  l.record(store_of(pts), spec, 2.0, 2.0);
+  l.record(store_of(pts), spec, 2.0);
   ASSERT_EQ(l.size(), 3U);
   EXPECT_EQ(l.launches().at(1).time, 1.0);
   EXPECT_EQ(l.launches().at(3).time, 2.0);
@@ -172,7 +184,8 @@ TEST(EjectaLaunches, FirstCrossingIsRecordedOnceAndSortedBySpeed) {
   r.read(text, "test", 1.5);
   EXPECT_EQ(r.size(), 2U);
   EXPECT_EQ(r.launches().at(2).mass, 3.0);
-  r.record(store_of(pts), spec, 2.0, 2.0);
+  EXPECT_EQ(r.impactor_mass(), 2.0);  // from the table's first line
+  r.record(store_of(pts), spec, 2.0);
   EXPECT_EQ(r.csv(), text);  // the resumed record writes the same table
   EXPECT_THROW(r.read("nonsense\n", "bad.csv", 1.0), std::runtime_error);
 }
