@@ -12,6 +12,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include "beta_output.hpp"
 #include "commands.hpp"
 #include "fragments_report.hpp"
 #include "progress.hpp"
@@ -89,6 +90,7 @@ class Runner {
         start_wall_(Clock::now()),
         steps_at_last_(sim.clock().step),
         start_time_(sim.time()) {
+    if (scene_.beta) beta_.emplace(*scene_.beta, spec.out);
     if (scene_.output.columns.empty()) {
       columns_ = io::all_columns(sim.particles());
     } else {
@@ -103,6 +105,10 @@ class Runner {
     if (root_) std::filesystem::create_directories(snapshot_dir(spec_.out));
     if (spec_.resumed) {
       if (root_ && !resume_timeseries()) return kBadInput;
+      if (root_ && beta_ && !beta_->resume(sim_.time())) {
+        if (dist_) comm_.abort(kBadInput);
+        return kBadInput;
+      }
       std::vector<std::filesystem::path> snaps;
       for (const auto& e : std::filesystem::directory_iterator(snapshot_dir(spec_.out))) {
         if (e.path().extension() == ".h5" && e.path().stem().string().rfind("snapshot_", 0) == 0) {
@@ -125,7 +131,7 @@ class Runner {
             on_end(cursor_.next_checkpoint_time, scene_.output.checkpoint_every);
       }
     } else {
-      if (root_) timeseries_.emplace(spec_.out / "timeseries.csv", porous());
+      if (root_) timeseries_.emplace(spec_.out / "timeseries.csv", porous(), beta_.has_value());
       cursor_.next_snapshot = 0;
       cursor_.next_snapshot_time = 0.0;
       cursor_.next_checkpoint_time =
@@ -184,7 +190,7 @@ class Runner {
   // rows it covers are lost and the spec does not accept the gap.
   bool resume_timeseries() {
     try {
-      timeseries_.emplace(spec_.out / "timeseries.csv", spec_.rows, porous());
+      timeseries_.emplace(spec_.out / "timeseries.csv", spec_.rows, porous(), beta_.has_value());
     } catch (const io::TimeSeriesGap& e) {
       spdlog::error("{}", e.what());
       if (dist_) comm_.abort(kBadInput);
@@ -201,6 +207,7 @@ class Runner {
     cursor_.next_checkpoint_time = kNever;
     if (last_checkpoint_time_ != sim_.time()) checkpoint();
     if (root_) timeseries_->sync();
+    if (root_ && beta_) beta_->write();
     const double wall = seconds_since_start();
     spdlog::info("finished: t = {}, {} steps, {:.1f} s wall, energy error {:.3e}",
                  format_time(sim_.time()), sim_.clock().step, wall, sim_.energy().error());
@@ -292,6 +299,7 @@ class Runner {
     // The rows the checkpoint covers reach the disk before it is committed: a crash right after
     // the commit must not lose them (a resume keeps the rows up to the checkpoint's time).
     if (root_) timeseries_->sync();
+    if (root_ && beta_) beta_->write();  // the launches this checkpoint covers
     io::RunState state;
     state.clock = sim_.clock();
     state.energy = sim_.energy();
@@ -355,6 +363,11 @@ class Runner {
       r.failure_ratio = failure_ratio();
     }
     if (porous()) r.mean_porosity = mean_porosity();
+    if (beta_) {
+      beta_->sample(
+          r, sim_.time(), sim_.particles(),
+          [this]() -> const ParticleStore& { return all_particles(); }, comm_);
+    }
     r.wall = seconds_since_start();
     if (root_) timeseries_->write(r);
   }
@@ -475,6 +488,7 @@ class Runner {
   double last_failure_ratio_ = 0.0;
   std::uint64_t steps_at_start_ = 0;
   ParticleStore gathered_;
+  std::optional<BetaOutput> beta_;  // [beta] scenes (issue 32)
 };
 
 }  // namespace

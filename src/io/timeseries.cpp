@@ -29,14 +29,21 @@ std::ofstream open_for_writing(const std::filesystem::path& file, std::ios::open
 
 }  // namespace
 
-std::string timeseries_header(bool porous) {
-  return std::string(kHeader) + (porous ? "mean_porosity,wall_s" : "wall_s");
+// The beta columns (issue 32; docs/validation-dart.md).
+constexpr std::string_view kBetaHeader =
+    "ejecta_mass_kg,ejecta_momentum_kg_m_per_s,impactor_momentum_kg_m_per_s,beta,beta_target,"
+    "beta_launch,";
+
+std::string timeseries_header(bool porous, bool beta) {
+  return std::string(kHeader) + (porous ? "mean_porosity," : "") +
+         (beta ? std::string(kBetaHeader) : std::string()) + "wall_s";
 }
 
-TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, bool porous)
+TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, bool porous, bool beta)
     : file_(file),
       porous_(porous),
-      header_(timeseries_header(porous)),
+      beta_(beta),
+      header_(timeseries_header(porous, beta)),
       out_(open_for_writing(file, std::ios::trunc)) {
   out_ << header_ << '\n';
 }
@@ -71,8 +78,8 @@ std::pair<std::size_t, std::optional<std::uint64_t>> rows_through(const std::str
 }  // namespace
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume,
-                                   bool porous)
-    : file_(file), porous_(porous), header_(timeseries_header(porous)) {
+                                   bool porous, bool beta)
+    : file_(file), porous_(porous), beta_(beta), header_(timeseries_header(porous, beta)) {
   std::string text;
   if (std::ifstream in(file, std::ios::binary); in) {
     std::stringstream ss;
@@ -145,6 +152,11 @@ void TimeSeriesWriter::write(const TimeSeriesRow& r) {
       e.outflow, e.error(), r.momentum.x(), r.momentum.y(), r.momentum.z(), r.failure_ratio,
       e.unresolved_kinetic, e.unresolved_fraction(), e.gravitational);
   if (porous_) out_ << fmt::format("{:.17g},", r.mean_porosity);
+  if (beta_) {
+    out_ << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},", r.ejecta_mass,
+                        r.ejecta_momentum, r.impactor_momentum, r.beta, r.beta_target,
+                        r.beta_launch);
+  }
   out_ << fmt::format("{:.3f}\n", r.wall);
 }
 

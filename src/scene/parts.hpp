@@ -25,6 +25,9 @@ void resolve_contact_pairs(Scene& scene);
 // [gravity] (parse_gravity.cpp), after [solver] and [domain]; fills scene.solver.self_gravity.
 void read_gravity(Reader& root, Scene& scene);
 
+// [beta] (parse_beta.cpp), after the bodies and [impact]; fills scene.beta.
+void read_beta(Reader& root, Scene& scene);
+
 // [fracture] and [output].
 void read_fracture(Reader& root, Scene& scene);
 void read_output(Reader& root, Scene& scene);

@@ -65,7 +65,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   scene.base_dir = base_dir;
   Reader root(doc, "", source);
   root.allow({"name", "description", "catalogue", "solver", "domain", "body", "impact", "fracture",
-              "output", "gravity"});
+              "output", "gravity", "beta"});
   root.reject_unknown();
   scene.name = root.string("name", std::filesystem::path(source).stem().string());
   root.note_default("name", "the file name without .toml");
@@ -114,6 +114,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
   if (impact) apply_impact(*impact, scene);
   resolve_contact_pairs(scene);
   if (points == Points::fill) fill_and_check_bodies(scene);
+  read_beta(root, scene);
   read_output(root, scene);
   scene.resolved = to_toml(doc);
   return scene;

@@ -28,12 +28,21 @@ struct TimeSeriesRow {
   // Mass-weighted mean porosity 1 - 1/alpha of the porous points (issue 29): written only by a
   // writer made with porous = true (a scene with a porous material), as `mean_porosity`.
   double mean_porosity = 0.0;
-  double wall = 0.0;  // s since the run (or resume) started
+  // The momentum enhancement (issue 32, include/shatter/fracture/beta.hpp): written only by a
+  // writer made with beta = true (a scene with a [beta] table), as ejecta_mass_kg,
+  // ejecta_momentum_kg_m_per_s, impactor_momentum_kg_m_per_s, beta, beta_target, beta_launch.
+  double ejecta_mass = 0.0;        // kg
+  double ejecta_momentum = 0.0;    // kg m/s, against the impact direction
+  double impactor_momentum = 0.0;  // kg m/s
+  double beta = 1.0;
+  double beta_target = 0.0;
+  double beta_launch = 1.0;  // counted at launch (shatter/fracture/ejecta_launch.hpp)
+  double wall = 0.0;         // s since the run (or resume) started
 };
 
 // The CSV header line (without newline). With porous = true it has `mean_porosity` before
-// `wall_s`.
-std::string timeseries_header(bool porous = false);
+// `wall_s`; with beta = true the six beta columns (TimeSeriesRow) come before `wall_s` too.
+std::string timeseries_header(bool porous = false, bool beta = false);
 
 // How a resumed run takes over the time series of the run it continues.
 struct ResumeRows {
@@ -57,13 +66,15 @@ class TimeSeriesWriter {
   // Starts a new file.
   // porous: the scene has a porous material (ParticleStore::has(Field::distension)); the rows
   // then carry mean_porosity.
-  explicit TimeSeriesWriter(const std::filesystem::path& file, bool porous = false);
+  // beta: the scene has a [beta] table; the rows then carry the beta columns.
+  explicit TimeSeriesWriter(const std::filesystem::path& file, bool porous = false,
+                            bool beta = false);
   // Resumes: keeps the complete rows of an existing file up to and including
   // `resume.through_step` and cuts the file after them (rows written after the checkpoint by a
   // run that then died, or a row torn by the crash, are dropped; the resumed run writes them
   // again), then appends.
-  TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume,
-                   bool porous = false);
+  TimeSeriesWriter(const std::filesystem::path& file, const ResumeRows& resume, bool porous = false,
+                   bool beta = false);
 
   // What a resume accepted (the rows missing), empty otherwise.
   const std::string& note() const { return note_; }
@@ -77,6 +88,7 @@ class TimeSeriesWriter {
  private:
   std::filesystem::path file_;
   bool porous_ = false;
+  bool beta_ = false;
   std::string header_;
   std::ofstream out_;
   std::string note_;

@@ -22,11 +22,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "shatter/core/config.hpp"
+#include "shatter/fracture/beta.hpp"
 #include "shatter/fracture/flaws.hpp"
 #include "shatter/fracture/fragments.hpp"
 #include "shatter/material/catalogue.hpp"
@@ -108,7 +110,8 @@ struct Scene {
   ImpactSummary impact;
   FractureSettings fracture;
   OutputSpec output;
-  std::string resolved;  // the scene as TOML after extends and --set, defaults written out
+  std::optional<BetaSpec> beta;  // [beta]: beta(t) in the time series (issue 32)
+  std::string resolved;          // the scene as TOML after extends and --set, defaults written out
 
   std::size_t particle_count() const;
 };

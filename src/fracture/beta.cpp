@@ -1,0 +1,58 @@
+// beta = 1 + p_ej / p_imp from the particles (include/shatter/fracture/beta.hpp).
+
+#include "shatter/fracture/beta.hpp"
+
+namespace shatter {
+
+bool is_ejecta(const BetaSpec& spec, const Eigen::Vector3d& x, const Eigen::Vector3d& v) {
+  // Above the pre-impact surface and moving out of the target (Raducan et al. 2019, Sec. 2).
+  if (!((x - spec.surface_point).dot(spec.normal) > 0.0)) return false;
+  if (!(v.dot(spec.normal) > 0.0)) return false;
+  // Faster than the escape speed, when the scene's target has one (Stickle et al. 2022).
+  return spec.escape_speed <= 0.0 || v.squaredNorm() >= spec.escape_speed * spec.escape_speed;
+}
+
+BetaSums beta_sums(const ParticleStore& store, const BetaSpec& spec) {
+  BetaSums s;
+  const auto m = store.col(Field::mass);
+  const auto x = store.col(Field::x);
+  const auto y = store.col(Field::y);
+  const auto z = store.col(Field::z);
+  const auto vx = store.col(Field::vx);
+  const auto vy = store.col(Field::vy);
+  const auto vz = store.col(Field::vz);
+  const auto body = store.col(IField::body);
+  const Eigen::Vector3d& d = spec.direction;
+  for (std::size_t p = 0; p < store.size(); ++p) {
+    const Eigen::Vector3d xp(x[p], y[p], z[p]);
+    const Eigen::Vector3d vp(vx[p], vy[p], vz[p]);
+    const double along = m[p] * vp.dot(d);  // m_p v_p . d
+    if (is_ejecta(spec, xp, vp)) {
+      s[0].add(m[p]);
+      s[1].add(-along);
+    } else {
+      s[3].add(along);
+    }
+    if (body[p] == spec.impactor) s[2].add(m[p]);
+  }
+  return s;
+}
+
+BetaSample beta_sample(BetaSums& sums, const BetaSpec& spec, double impactor_mass) {
+  BetaSample b;
+  b.ejecta_mass = sums[0].value();
+  b.ejecta_momentum = sums[1].value();
+  b.impactor_momentum = impactor_mass * spec.impact_speed;
+  if (b.impactor_momentum > 0.0) {
+    b.beta = 1.0 + b.ejecta_momentum / b.impactor_momentum;
+    b.beta_target = sums[3].value() / b.impactor_momentum;
+  }
+  return b;
+}
+
+BetaSample measure_beta(const ParticleStore& store, const BetaSpec& spec) {
+  auto s = beta_sums(store, spec);
+  return beta_sample(s, spec, s[2].value());
+}
+
+}  // namespace shatter
