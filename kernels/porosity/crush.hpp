@@ -36,11 +36,12 @@ struct PAlphaParams {
   double n = 2.0;       // exponent of the crush curve
   double c_e = 0.0;     // elastic sound speed of the porous material, m/s (0: the solid's)
   // The two-stage ("steep") crush curve of Jutzi et al. 2009 (Icarus 201, 802, "JBM09"; fitted
-  // to pumice): a second term that reaches alpha_t at the transition pressure p_t. p_t = 0 keeps
-  // the single-stage curve above.
+  // to pumice): a steep term that closes alpha0 - alpha_t of the distension between p_e and the
+  // transition pressure p_t, and a slow term that closes the remaining alpha_t - 1 between p_e and
+  // p_s. p_t = 0 keeps the single-stage curve above.
   double p_t = 0.0;      // transition pressure, Pa (p_e < p_t <= p_s), 0: single stage
-  double alpha_t = 1.0;  // distension the steep stage leaves at p_t (1 <= alpha_t <= alpha0)
-  double n2 = 2.0;       // exponent of the second (p_e .. p_s) stage; n is the steep stage's
+  double alpha_t = 1.0;  // 1 + the slow term's amplitude (1 <= alpha_t <= alpha0)
+  double n2 = 2.0;       // exponent of the slow (p_e .. p_s) term; n is the steep term's
 };
 
 inline double EpsAlphaParams::alpha_x() const {
@@ -76,7 +77,7 @@ inline T eps_alpha_crush(const EpsAlphaParams& q, double alpha_x, double eps_c, 
 // miluphcuda's crushcurve_style 1 integrates it, src/pressure.cu, with alpha_0 = alpha_e):
 //   alpha(P) = 1 + (alpha_e - alpha_t) r_t^n + (alpha_t - 1) r_s^n2,
 //   r_t = (p_t - P)/(p_t - p_e) clamped to [0, 1], r_s = (p_s - P)/(p_s - p_e) clamped,
-// alpha_e at p_e, alpha_t + (alpha_t - 1)(...)^n2 past p_t, 1 at p_s.
+// alpha_e at p_e, 1 + (alpha_t - 1) r_s^n2 from p_t on, 1 at p_s.
 template <class T>
 inline T p_alpha_crush(const PAlphaParams& q, const T& p) {
   using simd::vselect;

@@ -42,7 +42,7 @@ void check_two_stage(const MaterialSpec& spec, double a0, double pe, double ps) 
     return;
   }
   if (!has_pt) require(spec, "alpha_t", false, "needs p_t (the two-stage curve's transition)");
-  if (!has_at) require(spec, "p_t", false, "needs alpha_t (the distension at p_t)");
+  if (!has_at) require(spec, "p_t", false, "needs alpha_t (1 + the slow stage's amplitude)");
   const double pt = spec.get("p_t"), at = spec.get("alpha_t");
   require(spec, "p_t", pt > pe && pt <= ps, "must be in (p_e, p_s]");
   require(spec, "alpha_t", at >= 1.0 && at <= a0, "must be in [1, alpha0]");
