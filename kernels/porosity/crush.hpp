@@ -35,6 +35,13 @@ struct PAlphaParams {
   double p_s = 0.0;     // pressure of full compaction (alpha = 1), Pa (> p_e)
   double n = 2.0;       // exponent of the crush curve
   double c_e = 0.0;     // elastic sound speed of the porous material, m/s (0: the solid's)
+  // The two-stage ("steep") crush curve of Jutzi et al. 2009 (Icarus 201, 802, "JBM09"; fitted
+  // to pumice): a steep term that closes alpha0 - alpha_t of the distension between p_e and the
+  // transition pressure p_t, and a slow term that closes the remaining alpha_t - 1 between p_e and
+  // p_s. p_t = 0 keeps the single-stage curve above.
+  double p_t = 0.0;      // transition pressure, Pa (p_e < p_t <= p_s), 0: single stage
+  double alpha_t = 1.0;  // 1 + the slow term's amplitude (1 <= alpha_t <= alpha0)
+  double n2 = 2.0;       // exponent of the slow (p_e .. p_s) term; n is the steep term's
 };
 
 inline double EpsAlphaParams::alpha_x() const {
@@ -66,13 +73,27 @@ inline T eps_alpha_crush(const EpsAlphaParams& q, double alpha_x, double eps_c, 
 }
 
 // JBM08 Eq. 8: alpha(P) = 1 + (alpha_e - 1) ((p_s - P) / (p_s - p_e))^n between p_e and p_s,
-// alpha_e = alpha0 below p_e, 1 above p_s.
+// alpha_e = alpha0 below p_e, 1 above p_s. With p_t > 0 the two-stage curve of JBM09 (as
+// miluphcuda's crushcurve_style 1 integrates it, src/pressure.cu, with alpha_0 = alpha_e):
+//   alpha(P) = 1 + (alpha_e - alpha_t) r_t^n + (alpha_t - 1) r_s^n2,
+//   r_t = (p_t - P)/(p_t - p_e) clamped to [0, 1], r_s = (p_s - P)/(p_s - p_e) clamped,
+// alpha_e at p_e, 1 + (alpha_t - 1) r_s^n2 from p_t on, 1 at p_s.
 template <class T>
 inline T p_alpha_crush(const PAlphaParams& q, const T& p) {
   using simd::vselect;
-  const T r = simd::vmin(simd::vmax((q.p_s - p) * (1.0 / (q.p_s - q.p_e)), T(0.0)), T(1.0));
-  const T rn = q.n == 2.0 ? r * r : simd::vpow(r, T(q.n));
-  return vselect(p <= q.p_e, T(q.alpha0), 1.0 + (q.alpha0 - 1.0) * rn);
+  auto ratio = [&](double top) {
+    return simd::vmin(simd::vmax((top - p) * (1.0 / (top - q.p_e)), T(0.0)), T(1.0));
+  };
+  auto power = [](const T& r, double n) { return n == 2.0 ? r * r : simd::vpow(r, T(n)); };
+  const T rs = ratio(q.p_s);
+  T a;
+  if (q.p_t > 0.0) {  // a material constant: one branch per call, never per lane
+    a = 1.0 + (q.alpha0 - q.alpha_t) * power(ratio(q.p_t), q.n) +
+        (q.alpha_t - 1.0) * power(rs, q.n2);
+  } else {
+    a = 1.0 + (q.alpha0 - 1.0) * power(rs, q.n);
+  }
+  return vselect(p <= q.p_e, T(q.alpha0), a);
 }
 
 }  // namespace shatter::porosity

@@ -314,6 +314,12 @@ int run_material(const MaterialOptions& o, std::ostream& out) {
     write_states(out, spec, rho, energy, o.csv, states_wanted);
   }
   if (hugoniot_wanted) write_hugoniot(out, spec, up, ref, o.csv);
+  if (!hugoniot_wanted && !states_wanted && !o.csv && !spec.porosity.empty()) {
+    // A porous material's summary shows its porous Hugoniot from rest too (issue 29): the shock
+    // states a user compares with the crush curve above, at lab-to-asteroid particle speeds.
+    const std::vector<double> ups = {100.0, 300.0, 1000.0, 3000.0};
+    write_hugoniot(out, spec, ups, ref, false);
+  }
   return kOk;
 }
 

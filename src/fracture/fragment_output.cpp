@@ -57,6 +57,10 @@ const std::vector<Column>& columns() {
       {"b", "m", [](const Fragment& f) { return f.axes[1]; }},
       {"c", "m", [](const Fragment& f) { return f.axes[2]; }},
       {"volume", "m^3", [](const Fragment& f) { return f.volume; }},
+      // The bulk density of the fragment, pores included (issue 29: a porous body's fragments
+      // weigh less than their matrix); the matrix density comes with the composition.
+      {"bulk_density", "kg/m^3",
+       [](const Fragment& f) { return f.volume > 0.0 ? f.mass / f.volume : 0.0; }},
   };
   return cols;
 }
@@ -65,6 +69,12 @@ std::ofstream open_text(const std::filesystem::path& file) {
   std::ofstream out(file);
   if (!out) throw std::runtime_error("cannot write " + file.string());
   return out;
+}
+
+// The solid matrix's density, mass / matrix volume (the fragment's pores left out); 0 for a
+// fragment without volume.
+double matrix_density(const Fragment& f) {
+  return f.matrix_volume > 0.0 ? f.mass / f.matrix_volume : 0.0;
 }
 
 double equal_volume_radius(const Fragment& f) {
@@ -133,12 +143,15 @@ void write_fragments_csv(const FragmentCatalogue& cat, const std::filesystem::pa
                      cat.dust_mass, cat.fragments.size());
   out << "id,particles";
   for (const auto& c : columns()) out << ',' << c.name << '_' << c.unit;
+  const bool composed = !cat.body_names.empty();
+  if (composed) out << ",matrix_density_kg/m^3";
   for (const auto& b : cat.body_names) out << ",mass_body_" << b << "_kg";
   for (const auto& m : cat.material_names) out << ",mass_material_" << m << "_kg";
   out << '\n';
   for (const auto& f : cat.fragments) {
     out << f.id << ',' << f.particles;
     for (const auto& c : columns()) out << ',' << fmt::format("{:.17g}", c.value(f));
+    if (composed) out << ',' << fmt::format("{:.17g}", matrix_density(f));
     for (double m : f.mass_by_body) out << ',' << fmt::format("{:.17g}", m);
     for (double m : f.mass_by_material) out << ',' << fmt::format("{:.17g}", m);
     out << '\n';
@@ -176,6 +189,10 @@ void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::p
                     values, "kg");
     }
   };
+  if (!cat.body_names.empty()) {
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = matrix_density(cat.fragments[i]);
+    write_dataset(group.id, "matrix_density", H5T_NATIVE_DOUBLE, values, "kg/m^3");
+  }
   composition(cat.body_names, "body", &Fragment::mass_by_body);
   composition(cat.material_names, "material", &Fragment::mass_by_material);
   const auto cumulative = cumulative_mass_distribution(cat);
@@ -193,6 +210,35 @@ void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::p
   write_dataset(cgroup.id, "count_ge", H5T_NATIVE_INT64, n, "1");
   write_dataset(cgroup.id, "cumulative_mass", H5T_NATIVE_DOUBLE, cm, "kg");
 }
+
+namespace {
+
+// Each fragment's matrix volume, sum of v_p / alpha_p with v_p = m_p / rho_p (the bulk volume
+// fragment_kinematics sums) and alpha_p the point's distension: rho_s = alpha rho, so the
+// matrix occupies 1 / alpha of the bulk. Without a distension column every point is dense and the
+// matrix volume is the fragment's volume.
+void add_matrix_volume(FragmentCatalogue& cat, const ParticleStore& store) {
+  if (!store.has(Field::distension)) {
+    for (auto& f : cat.fragments) f.matrix_volume = f.volume;
+    return;
+  }
+  if (!store.has(Field::rho)) {
+    throw std::invalid_argument("add_composition: a distension column without a density column");
+  }
+  for (auto& f : cat.fragments) f.matrix_volume = 0.0;
+  const auto label = store.col(IField::fragment);
+  const auto mass = store.col(Field::mass);
+  const auto rho = store.col(Field::rho);
+  const auto alpha = store.col(Field::distension);
+  for (std::size_t p = 0; p < store.size(); ++p) {
+    if (label[p] < 0 || !(rho[p] > 0.0)) continue;
+    // A dense material's points hold no distension (0, as the time series reads it): alpha = 1.
+    const double a = alpha[p] >= 1.0 ? alpha[p] : 1.0;
+    cat.fragments[static_cast<std::size_t>(label[p])].matrix_volume += mass[p] / (a * rho[p]);
+  }
+}
+
+}  // namespace
 
 void add_composition(FragmentCatalogue& cat, const ParticleStore& store,
                      const std::vector<std::string>& body_names,
@@ -228,6 +274,7 @@ void add_composition(FragmentCatalogue& cat, const ParticleStore& store,
     cat.fragments[k].mass_by_body[b] += mass[p];
     cat.fragments[k].mass_by_material[material_of[b]] += mass[p];
   }
+  add_matrix_volume(cat, store);
 }
 
 namespace pkdgrav_units {

@@ -43,6 +43,16 @@ double cold_density(const Eos& eos, double rho0, double p) {
   return 0.5 * (lo + hi);
 }
 
+// The pressures of a P-alpha crush table: 0 to 1.2 p_s in equal steps; with JBM09's two-stage
+// curve half the rows on [0, p_t] and half on (p_t, 1.2 p_s], so the steep stage (pumice: p_e =
+// 1 MPa to p_t = 68 MPa, n = 12) is not hidden inside one step.
+double p_alpha_row_pressure(const porosity::PAlphaParams& q, int k, int n) {
+  if (q.p_t <= 0.0) return 1.2 * q.p_s * static_cast<double>(k) / (n - 1);
+  const int half = n / 2;  // rows 0 .. half end at p_t
+  if (k <= half) return q.p_t * static_cast<double>(k) / half;
+  return q.p_t + (1.2 * q.p_s - q.p_t) * static_cast<double>(k - half) / (n - 1 - half);
+}
+
 }  // namespace
 
 std::vector<CrushRow> crush_curve(const MaterialSpec& spec, int n) {
@@ -62,7 +72,7 @@ std::vector<CrushRow> crush_curve(const MaterialSpec& spec, int n) {
             r.rho = rho00 * std::exp(-r.eps_v);
             r.pressure = por.bulk(eos, r.rho, 0.0, r.alpha).p;
           } else {
-            r.pressure = 1.2 * por.p_params().p_s * f;
+            r.pressure = p_alpha_row_pressure(por.p_params(), k, n);
             r.alpha = porosity::p_alpha_crush(por.p_params(), r.pressure);
             r.rho = cold_density(eos, rho_s0, r.alpha * r.pressure) / r.alpha;
             r.eps_v = std::log(rho00 / r.rho);

@@ -31,6 +31,26 @@ double degradation_default(const MaterialSpec& s) {
   return s.porosity == "p_alpha" ? 1.0 : 0.0;
 }
 
+// JBM09's two-stage crush curve (kernels/porosity/crush.hpp): p_t and alpha_t together, the
+// transition inside the plastic range and alpha_t between the full compaction and alpha0.
+void check_two_stage(const MaterialSpec& spec, double a0, double pe, double ps) {
+  const bool has_pt = spec.params.count("p_t") != 0, has_at = spec.params.count("alpha_t") != 0;
+  if (!has_pt && !has_at) {
+    if (spec.params.count("crush_exponent_2") != 0) {
+      require(spec, "crush_exponent_2", false, "needs the two-stage curve's p_t and alpha_t");
+    }
+    return;
+  }
+  if (!has_pt) require(spec, "alpha_t", false, "needs p_t (the two-stage curve's transition)");
+  if (!has_at) require(spec, "p_t", false, "needs alpha_t (1 + the slow stage's amplitude)");
+  const double pt = spec.get("p_t"), at = spec.get("alpha_t");
+  require(spec, "p_t", pt > pe && pt <= ps, "must be in (p_e, p_s]");
+  require(spec, "alpha_t", at >= 1.0 && at <= a0, "must be in [1, alpha0]");
+  if (!(opt(spec, "crush_exponent_2", 2.0) > 0.0)) {
+    require(spec, "crush_exponent_2", false, "must be > 0");
+  }
+}
+
 }  // namespace
 
 void check_porosity(const MaterialSpec& spec) {
@@ -63,6 +83,7 @@ void check_porosity(const MaterialSpec& spec) {
       require(spec, "crush_exponent", false, "must be > 0");
     }
     if (!(opt(spec, "c_e", 0.0) >= 0.0)) require(spec, "c_e", false, "must be >= 0 m/s");
+    check_two_stage(spec, a0, pe, ps);
   }
 }
 
@@ -89,6 +110,9 @@ porosity::Porous make_crush(const MaterialSpec& s) {
   q.p_s = s.get("p_s");
   q.n = opt(s, "crush_exponent", 2.0);
   q.c_e = opt(s, "c_e", 0.0);
+  q.p_t = opt(s, "p_t", 0.0);
+  q.alpha_t = opt(s, "alpha_t", 1.0);
+  q.n2 = opt(s, "crush_exponent_2", 2.0);
   return porosity::Porous::p_alpha(q);
 }
 

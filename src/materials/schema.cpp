@@ -46,7 +46,8 @@ const std::vector<ModelSchema>& porosity_schemas() {
        {"chi", "deviator_scaling", "compaction_damage"}},
       {"p_alpha",
        {"alpha0", "p_e", "p_s"},
-       {"crush_exponent", "c_e", "deviator_scaling", "compaction_damage"}},
+       {"crush_exponent", "c_e", "deviator_scaling", "compaction_damage", "p_t", "alpha_t",
+        "crush_exponent_2"}},
   };
   return k;
 }

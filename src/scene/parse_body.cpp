@@ -307,13 +307,18 @@ void read_porosity(Reader& r, BodySpec& b) {
 
 // body.mass (sets rho0), then the material's own checks, each refusal naming the key it concerns.
 void read_mass_and_validate(Reader& r, BodySpec& b) {
-  // Mass given: the density changes, the volume stays (MPM paper Table 2, projectile mass).
+  // Mass given: the density changes, the volume stays (MPM paper Table 2, projectile mass). The
+  // mass is the body's, so it fixes the bulk density mass / V; a porous material's rho0 is its
+  // matrix density, rho_s = alpha0 mass / V (alpha0 after body.porosity, read before this).
   r.note_range("mass", "", "kg");
   if (auto mass = r.optional_number("mass")) {
     r.positive("mass", *mass);
     const double v = b.shape.exact_volume().value_or(
         fill_lattice(b.shape, b.spacing, -1, b.lattice_rotation).volume);
-    b.material.params["rho0"] = *mass / v;
+    const auto a0 = b.material.params.find("alpha0");
+    const double alpha0 =
+        b.material.porosity.empty() || a0 == b.material.params.end() ? 1.0 : a0->second;
+    b.material.params["rho0"] = alpha0 * *mass / v;
   }
   try {
     validate(b.material);

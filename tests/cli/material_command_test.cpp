@@ -288,5 +288,24 @@ TEST(MaterialCommand, PorousMaterialPrintsCrushCurveAndPorousHugoniot) {
       << human.out;
 }
 
+// The summary of a porous catalogue entry also gives its porous Hugoniot from rest (at 100, 300,
+// 1000 and 3000 m/s), the rows equal to the probe's as the table prints them (%.6e pressure).
+TEST(MaterialCommand, PorousSummaryIncludesThePorousHugoniot) {
+  const auto r = shatter_material({"pumice"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("# crush curve (p_alpha)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("# porous Hugoniot (p_alpha) from rho = 581.897"), std::string::npos)
+      << r.out;
+  const auto cat = MaterialCatalogue::builtin();
+  const double up[] = {100.0, 300.0, 1000.0, 3000.0};
+  char cell[32];
+  for (const auto& row : porous_hugoniot(cat.get("pumice"), up)) {
+    std::snprintf(cell, sizeof cell, " %.6e ", row.p);
+    EXPECT_NE(r.out.find(cell), std::string::npos) << cell << "\n" << r.out;
+  }
+  // Dense materials keep their summary without a Hugoniot.
+  EXPECT_EQ(shatter_material({"basalt"}).out.find("Hugoniot"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace shatter

@@ -61,6 +61,9 @@ struct Fragment {
   // catalogue's body_names and material_names; empty until computed.
   std::vector<double> mass_by_body;
   std::vector<double> mass_by_material;
+  // Volume of the solid matrix, sum of v_p / alpha_p over a porous body's points (distension
+  // alpha = rho_s / rho, issue 29), m^3; equal to volume for dense points (add_composition).
+  double matrix_volume = 0.0;
 };
 
 struct FragmentCatalogue {

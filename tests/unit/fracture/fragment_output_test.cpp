@@ -186,5 +186,55 @@ TEST(FragmentOutput, CompositionSumsMassPerBodyAndMaterialIntoTheTables) {
   EXPECT_NE(l[2].rfind(",1,2,0,1,2"), std::string::npos) << l[2];
 }
 
+// Issue 29: a porous fragment's bulk density (pores included) and its matrix density (mass over
+// sum m / (alpha rho)); a dense point (no distension: 0 in the column) counts with alpha = 1.
+TEST(FragmentOutput, PorousFragmentsGiveBulkAndMatrixDensity) {
+  ParticleStore store;
+  store.require(FieldSet{Field::mass, Field::rho, Field::distension});
+  store.require(IField::fragment);
+  store.require(IField::body);
+  store.add_group(0, 3);
+  // fragment 0: two porous points (alpha 2 and 1.5 at bulk 1350 and 1800: matrix 2700 each);
+  // fragment 1: one dense point at 2700 (distension 0: a dense material's).
+  const double m[] = {1.0, 3.0, 2.0}, rho[] = {1350.0, 1800.0, 2700.0}, alpha[] = {2.0, 1.5, 0.0};
+  for (std::size_t p = 0; p < 3; ++p) {
+    store.col(Field::mass)[p] = m[p];
+    store.col(Field::rho)[p] = rho[p];
+    store.col(Field::distension)[p] = alpha[p];
+    store.col(IField::fragment)[p] = p < 2 ? 0 : 1;
+    store.col(IField::body)[p] = p < 2 ? 0 : 1;
+  }
+  FragmentCatalogue cat;
+  cat.fragments.resize(2);
+  cat.fragments[0].mass = 4.0;
+  cat.fragments[0].volume = 1.0 / 1350.0 + 3.0 / 1800.0;  // as fragment_kinematics sums it
+  cat.fragments[1].id = 1;
+  cat.fragments[1].mass = 2.0;
+  cat.fragments[1].volume = 2.0 / 2700.0;
+  add_composition(cat, store, {"target", "projectile"}, {"pumice", "basalt"});
+  // matrix volume 1/2700 + 3/2700: matrix density 2700 to rounding
+  EXPECT_NEAR(cat.fragments[0].matrix_volume, 4.0 / 2700.0, 1e-18);
+  EXPECT_NEAR(cat.fragments[1].matrix_volume, 2.0 / 2700.0, 1e-18);
+  const auto file = scratch("porous.csv");
+  write_fragments_csv(cat, file);
+  const auto l = lines(file);
+  const std::string head = l[1];
+  auto column = [&](const std::string& row, const std::string& name) {
+    std::size_t col = 0;
+    for (std::size_t at = 0; at < head.find(name); ++at) col += head[at] == ',' ? 1 : 0;
+    std::stringstream ss(row);
+    std::string v;
+    for (std::size_t k = 0; k <= col; ++k) std::getline(ss, v, ',');
+    return std::stod(v);
+  };
+  ASSERT_NE(head.find("bulk_density_kg/m^3"), std::string::npos) << head;
+  ASSERT_NE(head.find("matrix_density_kg/m^3"), std::string::npos) << head;
+  // bulk 4 kg / (1/1350 + 3/1800) m^3 = 1661.54 kg/m^3; matrix 2700 (a few ulps: 1e-9 relative)
+  EXPECT_NEAR(column(l[2], "bulk_density"), 4.0 / (1.0 / 1350.0 + 3.0 / 1800.0), 1e-9);
+  EXPECT_NEAR(column(l[2], "matrix_density"), 2700.0, 1e-9);
+  EXPECT_NEAR(column(l[3], "bulk_density"), 2700.0, 1e-9);
+  EXPECT_NEAR(column(l[3], "matrix_density"), 2700.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace shatter

@@ -63,6 +63,28 @@ TEST(PorosityKeys, TheBodyIsBuiltAtTheBulkDensityOfThatPorosity) {
   EXPECT_NEAR(materials[g]->reference_density(), rho_s * 0.65, 1e-12 * rho_s);
 }
 
+// body.mass is the body's mass: for a porous body it fixes the bulk density (mass / V), and the
+// matrix density rho0 = alpha0 mass / V follows (before, it set rho0 = mass / V: the body then
+// weighed mass / alpha0).
+TEST(PorosityKeys, MassSetsTheBulkMassOfAPorousBody) {
+  const double radius = 0.01, mass = 9.0e-3;
+  const double volume = 4.0 / 3.0 * 3.14159265358979323846 * radius * radius * radius;
+  for (const std::string extra : {"", "\nporosity = 0.35"}) {
+    const Scene s = parse(porous(extra + "\nmass = 9.0e-3"));
+    const auto& m = target(s).material;
+    const double alpha0 = m.params.at("alpha0");
+    EXPECT_GT(alpha0, 1.2) << extra;  // porous_basalt's 1.25, or 1 / 0.65
+    const auto materials = build_materials(s);
+    const auto g = static_cast<std::size_t>(&target(s) - s.bodies.data());
+    // bulk density times the sphere's exact volume is the mass given: a few ulps apart
+    EXPECT_NEAR(materials[g]->reference_density() * volume, mass, 1e-12 * mass) << extra;
+    EXPECT_NEAR(m.params.at("rho0"), alpha0 * mass / volume, 1e-12 * m.params.at("rho0"));
+  }
+  // A dense body: rho0 is the bulk density, as before.
+  const Scene d = parse(with(kTargetLine, kTargetLine + "\nmass = 9.0e-3"));
+  EXPECT_NEAR(target(d).material.params.at("rho0") * volume, mass, 1e-12 * mass);
+}
+
 TEST(PorosityKeys, OutsideTheRangeIsRefusedAtItsLine) {
   for (const char* bad : {"porosity = 1.0", "porosity = -0.1", "porosity = 1.5"}) {
     const std::string text = porous(std::string("\n") + bad);
