@@ -142,6 +142,7 @@ TEST(AxisymmetricScene, WhatTheRzModeDoesNotCarryIsRefusedWithKeyAndLine) {
        "material = \"basalt\"\n\n[body.target.damage]\nmodel = \"grady_kipp\"\nweibull_m = "
        "8.5\nweibull_k = 3.0e39\nexplicit_flaws = 1",
        "body.target.damage.explicit_flaws", "shape = \"sphere\""},
+      {"fragments = false", "fragments = true", "output.fragments", "fragments = true"},
   };
   for (const Case& c : cases) {
     const std::string text = rz_with(c.from, c.to);
