@@ -29,6 +29,7 @@
 // keeps Eq. 14's p* = (1 - D) p for every model (no yield surface caps the mean stress).
 
 #include <cstddef>
+#include <numbers>
 #include <string_view>
 
 #include "constitutive/artificial_viscosity.hpp"
@@ -57,6 +58,8 @@ struct ConstitutiveColumns {
   // damage, eps_min, eps_max, n_flaws, weibull_m, n_active
   double* damage_state[6] = {};
   double* distension = nullptr;  // alpha = rho_s / rho (porosity on)
+  // r-z (issue 31): the points' radius x when each point is a ring about z, else null.
+  const double* ring_radius = nullptr;
 };
 
 // How the damage D reaches the stress (issue 11; docs/fracture.md, "Damage-stress coupling").
@@ -362,6 +365,13 @@ class ComposedKernel {
       in.soundspeed = cp;
       in.volume = simd::load_or<T>(ptr(c.mass, p), 0.0) / pt.rho;
       if constexpr (Porosity::kEnabled) in.volume = in.volume / pt.alpha;
+      if (c.ring_radius != nullptr) {
+        // r-z: the point is a ring V = 2 pi r A; its flaws are those of one 3-D point of its
+        // cross-section's size, volume A^(3/2) (src/fracture/flaws.cpp), whose R_s Eq. 19 takes.
+        const T r = simd::vmax(simd::load_or<T>(ptr(c.ring_radius, p), 0.0), T(1e-300));
+        const T a = in.volume / (2.0 * std::numbers::pi * r);
+        in.volume = a * simd::vsqrt(a);
+      }
       in.dplastic = ps.deps_p;
       in.dt = sp.dt;
       damage::DamageState<T> ds;

@@ -90,6 +90,11 @@ void benz_asphaug(ParticleStore& store, Range range, const FlawSpec& spec, doubl
 
 // MPM paper Sec. 3.3, the three bullets after Eq. 19, with three independent uniforms per
 // particle id (streams 0..3). n_p is that of the whole body, copies x the stored particles.
+// In r-z (spec.rings) n_p is replaced per point by V / V_p with V_p = A^(3/2), the volume of the
+// 3-D point of the ring's cross-section A = volume0 / (2 pi x): the body's flaws spread over the
+// 3-D points it would hold, and the ring takes the draw of one of them (its weakest flaw, n_f and
+// N_max as that point's), so that its Grady-Kipp damage is that point's (R_s likewise,
+// kernels/constitutive/composed_kernel.hpp).
 void resolution_independent(ParticleStore& store, Range range, const FlawSpec& spec, double kv,
                             std::size_t copies) {
   const double m = spec.weibull_m;
@@ -102,10 +107,13 @@ void resolution_independent(ParticleStore& store, Range range, const FlawSpec& s
   const double n_p = static_cast<double>(copies * range.size());
   if (n_tot < n_p) throw std::invalid_argument("flaws: total_flaws is below the particle count");
   // Binomial(n_tot, 1/n_p) -> normal with mean n_tot/n_p and variance n_tot/n_p (1 - 1/n_p).
-  const double mean_nf = n_tot / n_p;
-  const double sd_nf = std::sqrt(mean_nf * (1.0 - 1.0 / n_p));
-  const double log_q = std::log1p(-1.0 / n_p);  // ln(1 - 1/n_p); -inf for a single particle
+  double mean_nf = n_tot / n_p;
+  double sd_nf = std::sqrt(mean_nf * (1.0 - 1.0 / n_p));
+  double log_q = std::log1p(-1.0 / n_p);  // ln(1 - 1/n_p); -inf for a single particle
   const double inv_m = 1.0 / m;
+  const double body_v = kv / spec.weibull_k;
+  const auto vol0 = store.col(Field::volume0);
+  const auto xs = store.col(Field::x);
   const auto ids = store.col(IField::id);
   auto eps_min = store.col(Field::eps_min);
   auto eps_max = store.col(Field::eps_max);
@@ -113,6 +121,13 @@ void resolution_independent(ParticleStore& store, Range range, const FlawSpec& s
   auto m_p = store.col(Field::weibull_m);
   for (std::size_t p = range.begin; p < range.end; ++p) {
     const auto key = static_cast<std::uint64_t>(ids[p]);
+    if (spec.rings) {
+      const double a = vol0[p] / (2.0 * std::numbers::pi * xs[p]);  // the ring's cross-section
+      const double w = std::min(1.0, a * std::sqrt(a) / body_v);    // 1 / n_p of a 3-D lattice
+      mean_nf = n_tot * w;
+      sd_nf = std::sqrt(mean_nf * (1.0 - w));
+      log_q = std::log1p(-w);
+    }
     // Bullet 2: the index of the weakest flaw is uniform on [1, 10^m], so eps_min,p spans one
     // order of magnitude above eps_min,V = (kV)^(-1/m) and averages 10 m/(m+1) eps_min,V.
     const double n_min = 1.0 + counter_uniform(spec.seed, key, 0) * (ten_m - 1.0);
@@ -138,6 +153,10 @@ void initialise_flaws(ParticleStore& store, Range range, const FlawSpec& spec, s
   if (copies == 0) throw std::invalid_argument("flaws: copies must be at least 1");
   if (range.empty()) return;
   if (!store.has(IField::id)) throw std::logic_error("flaws: the particle store has no id column");
+  if (spec.rings && spec.scheme != "resolution_independent")
+    throw std::invalid_argument(
+        "flaws: explicit flaws (benz_asphaug) are not drawn for r-z rings; use the "
+        "resolution-independent scheme (explicit_flaws = 0)");
   store.require(kFlawFields);
   // V of Eqs. 15-20 is the whole body's: a half model holds half of it.
   const double kv = spec.weibull_k * static_cast<double>(copies) * body_volume(store, range);

@@ -59,7 +59,9 @@ class ComposedModel final : public MaterialModel {
   void update(ParticleStore& store, Range range, const ConstitutiveContext& ctx) const override {
     const constitutive::StepParams sp{ctx.dt, ctx.cell_size, ctx.viscosity.linear,
                                       ctx.viscosity.quadratic};
-    kernel_.update(gather_columns(store, fields(), true), range.begin, range.end, sp);
+    auto columns = gather_columns(store, fields(), true);
+    if (ctx.rings) columns.ring_radius = store.col(Field::x).data();
+    kernel_.update(columns, range.begin, range.end, sp);
     // Peak-pressure tracer: the largest EOS pressure (the kernel's step 3, Eqs. 8-12) seen so
     // far, what iSALE and CTH report as peak shock pressure. Per point: thread-independent.
     if (!store.has(Field::peak_pressure)) return;

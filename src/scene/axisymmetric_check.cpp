@@ -74,12 +74,13 @@ void check_axisymmetric_body(const BodySpec& b) {
   if (b.driven) {
     throw SceneError(b.where, key + ".driven", "driven bodies are not verified in r-z yet");
   }
-  if (b.flaws) {
-    // The explicit flaws are drawn per point from the body's volume (MPM paper Sec. 3.3); an r-z
-    // point is a ring whose flaw count grows with r, which the draw does not know yet.
-    throw SceneError(b.where, key + ".damage",
-                     "explicit flaws (Grady-Kipp) are not supported in r-z yet: a point is a "
-                     "ring, and the flaw draw assumes points of one volume");
+  if (b.flaws && b.flaws->scheme == "benz_asphaug") {
+    // BA95's draw places N ln N flaws on equal points one by one; an r-z ring stands for many 3-D
+    // points, which that draw does not know. The resolution-independent scheme gives each ring
+    // the flaws of one 3-D point of its size (src/fracture/flaws.cpp) and is allowed.
+    throw SceneError(b.where, key + ".damage.explicit_flaws",
+                     "explicit flaws (BA95's draw) are not supported in r-z: a point is a ring; "
+                     "use explicit_flaws = 0 (the resolution-independent flaws)");
   }
 }
 

@@ -78,7 +78,11 @@ BuiltScene build(const Scene& scene) {
       P.col(IField::id)[p] = next_id++;
       P.col(IField::body)[p] = static_cast<std::int64_t>(g);
     }
-    if (b.flaws) initialise_flaws(P, r, *b.flaws, flaw_copies(scene, b));
+    if (b.flaws) {
+      FlawSpec flaws = *b.flaws;  // r-z: a ring holds the flaws of one 3-D point of its size
+      flaws.rings = scene.solver.geometry == Geometry::axisymmetric;
+      initialise_flaws(P, r, flaws, flaw_copies(scene, b));
+    }
   }
   const gravity::GravityConfig& g = scene.solver.self_gravity;
   if (g.equilibrium) gravity::set_equilibrium(P, s.materials, g.G);  // lithostatic start

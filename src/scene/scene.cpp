@@ -197,6 +197,13 @@ void read_output(Reader& root, Scene& scene) {
   if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");
   o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));
   o.fragments = r.boolean("fragments", true);
+  if (o.fragments && scene.solver.geometry == Geometry::axisymmetric) {
+    // r-z (issue 31): a point is a ring about the axis; the fragment search would link rings
+    // as 3-D points and report each ring as one lump on the axis plane.
+    r.fail("fragments",
+           "must be false with solver.geometry = \"axisymmetric\": the fragment search does "
+           "not know r-z rings yet (set output.fragments = false)");
+  }
   // The pkdgrav hand-off's radii (fragments.ss; docs/outputs.md, "N-body hand-off").
   scene.fracture.search.ss_radius =
       ss_radius_by_name(r.choice("ss_radius", "equal_volume", {"equal_volume", "packing_safe"}));

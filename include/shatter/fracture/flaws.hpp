@@ -19,6 +19,10 @@ struct FlawSpec {
   double total_flaws = 1.0e9;  // n_tot (resolution-independent scheme)
   double young = 0.0;          // Young's modulus of the body, to turn stress into strain
   std::uint64_t seed = 1;
+  // r-z (issue 31): each point is a ring about z, volume0 = 2 pi x A. A ring then holds the flaws
+  // of one 3-D point of its cross-section's size (volume A^(3/2)), not of its whole volume, so
+  // that its damage is that of a 3-D point at the same spacing (resolution_independent only).
+  bool rings = false;
 };
 
 // Fills eps_min, eps_max, n_flaws, weibull_m (and zeroes n_active) for the particles of `range`

@@ -23,6 +23,9 @@ struct ConstitutiveContext {
   double dt = 0.0;         // the step over which deps and dspin were accumulated
   double cell_size = 0.0;  // background-grid cell size h (artificial viscosity length)
   ArtificialViscosity viscosity;
+  // r-z (issue 31): each point is a ring about z at radius x; the damage's crack-growth length
+  // R_s is then that of the ring's cross-section (kernels/constitutive/composed_kernel.hpp).
+  bool rings = false;
 };
 
 class MaterialModel {

@@ -9,16 +9,19 @@ namespace shatter::mpm {
 Stage constitutive_stage(State& s) {
   FieldSet models;
   for (const auto& m : s.materials) models = models | m->fields();
-  return {"constitutive",
-          {kStrainIncrement | kSpinIncrement | FieldSet{Field::rho, Field::mass}, kClock},
-          {kStress | models | FieldSet{Field::energy, Field::pressure, Field::soundspeed}, 0},
-          [&s] {
-            const ConstitutiveContext ctx{s.dt_step, s.config.cell_size, s.config.viscosity};
-            for (const Group& g : s.particles.groups()) {
-              if (g.range.empty()) continue;
-              s.materials[static_cast<std::size_t>(g.material)]->update(s.particles, g.range, ctx);
-            }
-          }};
+  const bool rings = s.config.geometry == Geometry::axisymmetric;  // R_s of the damage reads x
+  const FieldSet ring_radius = rings ? FieldSet{Field::x} : FieldSet{};
+  return {
+      "constitutive",
+      {kStrainIncrement | kSpinIncrement | FieldSet{Field::rho, Field::mass} | ring_radius, kClock},
+      {kStress | models | FieldSet{Field::energy, Field::pressure, Field::soundspeed}, 0},
+      [&s, rings] {
+        const ConstitutiveContext ctx{s.dt_step, s.config.cell_size, s.config.viscosity, rings};
+        for (const Group& g : s.particles.groups()) {
+          if (g.range.empty()) continue;
+          s.materials[static_cast<std::size_t>(g.material)]->update(s.particles, g.range, ctx);
+        }
+      }};
 }
 
 }  // namespace shatter::mpm

@@ -140,8 +140,9 @@ TEST(AxisymmetricScene, WhatTheRzModeDoesNotCarryIsRefusedWithKeyAndLine) {
        "body.projectile.lattice_rotation", "shape = \"sphere\"", 1},
       {"material = \"basalt\"",
        "material = \"basalt\"\n\n[body.target.damage]\nmodel = \"grady_kipp\"\nweibull_m = "
-       "8.5\nweibull_k = 3.0e39\ntotal_flaws = 1.0e9",
-       "body.target.damage", "shape = \"sphere\""},
+       "8.5\nweibull_k = 3.0e39\nexplicit_flaws = 1",
+       "body.target.damage.explicit_flaws", "shape = \"sphere\""},
+      {"fragments = false", "fragments = true", "output.fragments", "fragments = true"},
   };
   for (const Case& c : cases) {
     const std::string text = rz_with(c.from, c.to);

@@ -103,6 +103,45 @@ TEST(ResumeIdentity, CheckpointHalfwayAndResumeMatchesAnUninterruptedRunBitwise)
   resume_matches(kScene);
 }
 
+// r-z (solver.geometry = "axisymmetric", issue 31): a head-on impact whose target carries
+// Grady-Kipp damage with the ring-weighted flaws, resumed from a checkpoint: the geometry is in
+// the checkpoint's scene text, the rings' volumes and flaws in its columns.
+TEST(ResumeIdentity, AxisymmetricWithDamageResumesBitwise) {
+  resume_matches(R"(
+[solver]
+geometry = "axisymmetric"
+shape = "bspline2"
+cell_size = 1.0e-3
+end_time = 1.0
+[domain]
+lo = [0.0, -0.03, -0.03]
+hi = [0.03, 0.03, 0.02]
+boundary = "outflow"
+[body.target]
+shape = "sphere"
+centre = [0.0, 0.0, -0.012]
+radius = 0.012
+material = { name = "basalt", yield = 30.0e6 }
+[body.target.damage]
+model = "grady_kipp"
+weibull_m = 8.5
+weibull_k = 3.0e39
+total_flaws = 1.0e10
+[body.projectile]
+shape = "sphere"
+radius = 4.0e-3
+material = "nylon"
+[impact]
+projectile = "projectile"
+target = "target"
+speed = 3200.0
+angle = 0.0
+direction = [0.0, 0.0, -1.0]
+[output]
+fragments = false
+)");
+}
+
 // Periodic filtering (solver.filter_every): the phase comes from Clock::step, which the
 // checkpoint carries, so a resume at step 20 with N = 3 filters at 21, 24, ... as the straight
 // run does (a phase restarted at the resume would filter at 23, 26, ... and differ).
