@@ -152,6 +152,8 @@ TEST(AxisymmetricScene, WhatTheRzModeDoesNotCarryIsRefusedWithKeyAndLine) {
         1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
     expect_names(error_of(text), line, c.key);
   }
+  // Left out, the key defaults to false in r-z (the search is off), so the scene is valid.
+  EXPECT_FALSE(test::parse(rz_with("fragments = false", "")).output.fragments);
   // SPH: the method, named (given with --set, so no line of the file).
   const std::string msg = error_of(kRz, {"solver.method=\"sph\""});
   EXPECT_NE(msg.find("solver.method"), std::string::npos) << msg;
