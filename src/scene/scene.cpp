@@ -167,6 +167,8 @@ void read_fracture(Reader& root, Scene& scene) {
   }
 }
 
+static void read_output_columns(Reader& r, Scene& scene);
+
 void read_output(Reader& root, Scene& scene) {
   toml::table& t = table_or_empty(root, "output");
   Reader r(t, "output", root.where("output"));
@@ -211,7 +213,13 @@ void read_output(Reader& root, Scene& scene) {
       ss_radius_by_name(r.choice("ss_radius", "equal_volume", {"equal_volume", "packing_safe"}));
   // Snapshots only: checkpoints are always binary64 (a resume continues bit for bit).
   o.single_precision = r.choice("snapshot_precision", "double", {"double", "single"}) == "single";
+  read_output_columns(r, scene);
+}
 
+// output.columns: "default" (with the distension column when a body is porous), "all" or a list
+// of names that must include the XDMF geometry.
+static void read_output_columns(Reader& r, Scene& scene) {
+  OutputSpec& o = scene.output;
   r.note_type("columns", "\"default\", \"all\" or array of column names");
   const toml::node* c = r.table().get("columns");
   r.note_default("columns",
