@@ -2,6 +2,8 @@
 
 #include "shatter/fracture/beta.hpp"
 
+#include "point_motion.hpp"
+
 namespace shatter {
 
 bool is_ejecta(const BetaSpec& spec, const Eigen::Vector3d& x, const Eigen::Vector3d& v) {
@@ -14,26 +16,19 @@ bool is_ejecta(const BetaSpec& spec, const Eigen::Vector3d& x, const Eigen::Vect
 
 BetaSums beta_sums(const ParticleStore& store, const BetaSpec& spec) {
   BetaSums s;
-  const auto m = store.col(Field::mass);
-  const auto x = store.col(Field::x);
-  const auto y = store.col(Field::y);
-  const auto z = store.col(Field::z);
-  const auto vx = store.col(Field::vx);
-  const auto vy = store.col(Field::vy);
-  const auto vz = store.col(Field::vz);
+  const fracture::PointMotion pts(store);
   const auto body = store.col(IField::body);
   const Eigen::Vector3d& d = spec.direction;
   for (std::size_t p = 0; p < store.size(); ++p) {
-    const Eigen::Vector3d xp(x[p], y[p], z[p]);
-    const Eigen::Vector3d vp(vx[p], vy[p], vz[p]);
-    const double along = m[p] * vp.dot(d);  // m_p v_p . d
-    if (is_ejecta(spec, xp, vp)) {
-      s[0].add(m[p]);
+    const Eigen::Vector3d vp = pts.velocity(p);
+    const double along = pts.mass[p] * vp.dot(d);  // m_p v_p . d
+    if (is_ejecta(spec, pts.position(p), vp)) {
+      s[0].add(pts.mass[p]);
       s[1].add(-along);
     } else {
       s[3].add(along);
     }
-    if (body[p] == spec.impactor) s[2].add(m[p]);
+    if (body[p] == spec.impactor) s[2].add(pts.mass[p]);
   }
   return s;
 }

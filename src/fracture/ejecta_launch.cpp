@@ -11,6 +11,8 @@
 
 #include <fmt/format.h>
 
+#include "point_motion.hpp"
+
 namespace shatter {
 namespace {
 
@@ -23,22 +25,16 @@ constexpr std::string_view kHeader =
 void EjectaLaunches::record(const ParticleStore& store, const BetaSpec& spec, double time) {
   BetaSpec any_speed = spec;
   any_speed.escape_speed = 0.0;  // the whole launch distribution; a reader cuts at v_esc
-  const auto m = store.col(Field::mass);
-  const auto x = store.col(Field::x);
-  const auto y = store.col(Field::y);
-  const auto z = store.col(Field::z);
-  const auto vx = store.col(Field::vx);
-  const auto vy = store.col(Field::vy);
-  const auto vz = store.col(Field::vz);
+  const fracture::PointMotion pts(store);
   const auto id = store.col(IField::id);
   for (std::size_t p = 0; p < store.size(); ++p) {
-    const Eigen::Vector3d xp(x[p], y[p], z[p]);
-    const Eigen::Vector3d vp(vx[p], vy[p], vz[p]);
+    const Eigen::Vector3d xp = pts.position(p);
+    const Eigen::Vector3d vp = pts.velocity(p);
     if (!is_ejecta(any_speed, xp, vp) || launches_.count(id[p]) != 0) continue;
     const Eigen::Vector3d rel = xp - spec.surface_point;
     const double h = rel.dot(spec.normal);
     launches_[id[p]] = {time,
-                        m[p],
+                        pts.mass[p],
                         vp.norm(),
                         vp.dot(spec.normal),
                         -vp.dot(spec.direction),
