@@ -3,6 +3,7 @@ and the plot tools draw a tiny run (tests/fuzz/tiny.toml, 4 400 points, about a 
 `shatter` binary named in $SHATTER_BINARY; ctest sets it). The studies (studies/) are not tested
 here: they are records of one-off measurements."""
 
+import math
 import os
 import subprocess
 
@@ -191,3 +192,67 @@ def test_qstar_fit_minimum_and_search(tmp_path):
     before = len(calls)
     assert q.bisect(o, cache, *q.bracket(o, cache)) == (lo, hi)  # a rerun reads its cache
     assert len(calls) == before
+
+
+def write_beta_run(run, betas, launches, m_imp=2.0, speed=100.0):
+    """A run folder as a [beta] scene leaves it: timeseries.csv with the beta columns and
+    ejecta_launch.csv in the writer's format (src/fracture/ejecta_launch.cpp), fastest first."""
+    run.mkdir()
+    with open(run / "timeseries.csv", "w") as f:
+        f.write("step,time_s,ejecta_mass_kg,ejecta_momentum_kg_m_per_s,"
+                "impactor_momentum_kg_m_per_s,beta,beta_target,beta_launch,wall_s\n")
+        for i, b in enumerate(betas):
+            f.write(f"{i},{i * 1e-3},{i},{(b - 1) * m_imp * speed},{m_imp * speed},{b},{b},"
+                    f"{b - 0.05},0\n")
+    with open(run / "ejecta_launch.csv", "w") as f:
+        f.write(f"# impactor_mass_kg={m_imp} impact_speed_m_per_s={speed}\n")
+        f.write("id,launch_time_s,mass_kg,speed_m_per_s,normal_speed_m_per_s,back_speed_m_per_s,"
+                "launch_radius_m,launch_height_m,cumulative_mass_kg\n")
+        cumulative = 0.0
+        for i, (v, m) in enumerate(sorted(launches, reverse=True)):
+            cumulative += m
+            f.write(f"{i},0.001,{m},{v},{v},{v},0.1,0.01,{cumulative}\n")
+
+
+def test_beta_reports_the_drift_and_the_cumulative_ejecta_mass(tmp_path):
+    run = tmp_path / "run"
+    # beta = 1.0, 1.1, ..., 1.9: the last fifth (rows 8 and 9) moves by +0.1.
+    write_beta_run(run, [1.0 + 0.1 * i for i in range(10)],
+                   [(50.0, 1.0), (20.0, 1.0), (10.0, 2.0), (5.0, 4.0)])
+    table = tmp_path / "mv.csv"
+    r = run_tool_beta(run, "--csv", str(table))
+    assert r.returncode == 0, r.stderr
+    assert "beta: 1.9000 at the end; changed by +0.1000 over the last fifth" in r.stdout, r.stdout
+    rows = [list(map(float, line.split(","))) for line in table.read_text().splitlines()[1:]]
+    # From the fastest launch (50 m/s, M(>v) = 1 kg of m_imp = 2 kg) to the slowest (5 m/s, all
+    # 8 kg), speeds as fractions of U = 100 m/s.
+    assert rows[0][0] == pytest.approx(0.5) and rows[0][1] == pytest.approx(0.5)
+    assert rows[-1][0] == pytest.approx(0.05) and rows[-1][1] == pytest.approx(4.0)
+    # M(>v) never decreases towards slower speeds, and every mass is a partial sum of the launches.
+    assert all(b[1] >= a[1] for a, b in zip(rows, rows[1:]))
+    assert {row[1] for row in rows} <= {0.5, 1.0, 2.0, 4.0}
+    # The Housen & Holsapple 2011 column, written out from the formula with the tool's defaults
+    # (mu 0.41, nu 0.4, k 0.3, C1 0.55, rho 2400, delta 2703): the tool's to 6 digits.
+    x = rows[0][0]
+    hh = 3 * 0.3 / (4 * math.pi) * (2400 / 2703) ** (1 - 3 * 0.4) * (x / 0.55) ** (-3 * 0.41)
+    assert rows[0][2] == pytest.approx(hh, rel=1e-5)
+
+
+def test_beta_escape_speed_leaves_out_slow_launches(tmp_path):
+    run = tmp_path / "run"
+    write_beta_run(run, [1.0, 1.2], [(50.0, 1.0), (20.0, 1.0), (10.0, 2.0), (5.0, 4.0)])
+    table = tmp_path / "mv.csv"
+    r = run_tool_beta(run, "--csv", str(table), "--escape-speed", "15")
+    assert r.returncode == 0, r.stderr
+    rows = [list(map(float, line.split(","))) for line in table.read_text().splitlines()[1:]]
+    assert rows[-1][0] == pytest.approx(0.2) and rows[-1][1] == pytest.approx(1.0)
+
+
+def test_beta_refuses_a_run_without_beta_columns(tiny_run):
+    r = run_tool_beta(tiny_run)
+    assert r.returncode != 0
+    assert "has no beta columns" in r.stderr, r.stderr
+
+
+def run_tool_beta(run_dir, *args):
+    return run([PYTHON, os.path.join(TOOLS, "beta.py"), str(run_dir), *args])
