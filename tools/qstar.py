@@ -33,7 +33,11 @@ from pathlib import Path
 
 COLUMNS = ["radius_m", "speed_km_s", "angle_deg", "method", "material", "qstar_J_per_kg", "runs",
            "points_per_target", "points_per_radius", "crossings", "q_lo_J_per_kg", "q_hi_J_per_kg",
-           "f_lo", "f_hi", "tolerance", "cpu_s", "ba99_fit_J_per_kg"]
+           "f_lo", "f_hi", "tolerance", "cpu_s", "ba99_fit_J_per_kg", "seed", "points_per_cell",
+           "options"]
+# Rows written before a column existed get its value for the scenes those runs used: the default
+# flaw seed (fracture.seed = 1), 2 x 2 x 2 points per cell, no --set overrides.
+COLUMN_DEFAULTS = {"seed": "1", "points_per_cell": "2", "options": ""}
 # BA99 Table III (basalt): Q*_D = Q0 (R / 1 cm)^a + B rho (R / 1 cm)^b, Q in erg/g, rho in g/cm^3.
 # Not verified against the paper (its table could not be read; docs/validation-qstar.md, "The fit
 # constants"): the 3 km/s row matches the one secondary transcription found, the 5 km/s row
@@ -52,12 +56,13 @@ def scene_text(o, q, run_dir):
     """The trial's scene: impactor radius from Q = (1/2) m v^2 / M_target (same density)."""
     v = o.speed * 1e3
     imp_radius = o.radius * (2.0 * q / (v * v)) ** (1.0 / 3.0)
-    cell = 2.0 * o.radius / o.points_per_radius  # 2 x 2 x 2 points per cell
+    spacing = o.radius / o.points_per_radius  # points_per_radius points along a radius
+    cell = o.points_per_cell * spacing
     half = 3.0 * o.radius
     end = o.crossings * 2.0 * o.radius / o.sound_speed
     # The impactor gets at least two points per radius, finer than the target's when it is small
     # (a sub-resolution impactor has no points); its mass is its own volume's either way.
-    imp_spacing = min(0.5 * cell, 0.5 * imp_radius)
+    imp_spacing = min(spacing, 0.5 * imp_radius)
     return f"""# tools/qstar.py trial: Q = {q:.6g} J/kg
 name = "qstar"
 [solver]
@@ -68,6 +73,8 @@ end_time = {end:.9g}
 lo = [{-half:.9g}, {-half:.9g}, {-half:.9g}]
 hi = [{half:.9g}, {half:.9g}, {half:.9g}]
 boundary = "outflow"
+[fracture]
+seed = {o.seed}
 [gravity]
 self = true
 equilibrium = true
@@ -77,6 +84,7 @@ shape = "sphere"
 centre = [0.0, 0.0, 0.0]
 radius = {o.radius:.9g}
 material = "{o.material}"
+points_per_cell = {o.points_per_cell}
 [body.target.damage]
 model = "grady_kipp"
 weibull_m = {o.weibull_m}
@@ -136,6 +144,8 @@ def trial(o, q):
     scene.write_text(scene_text(o, q, run_dir / "out"))
     env = dict(os.environ, OMP_NUM_THREADS="1")
     threads = ["--threads", str(o.threads)] if o.threads else []
+    for kv in o.set:
+        threads += ["--set", kv]
     cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     wall0 = time.time()
     with open(run_dir / "run.log", "w") as log:
@@ -196,9 +206,21 @@ def bisect(o, cache, lo, hi):
 
 
 def append_row(o, row):
+    """Appends a row; a CSV written before a column existed is rewritten once with that column
+    filled from COLUMN_DEFAULTS (what those runs used)."""
     path = Path(o.csv)
-    new = not path.exists()
-    with path.open("a", newline="") as f:
+    rows = list(csv.DictReader(path.open())) if path.exists() else []
+    if rows and list(rows[0].keys()) != COLUMNS:
+        missing = [c for c in COLUMNS if c not in rows[0]]
+        if any(c not in COLUMN_DEFAULTS for c in missing) or len(rows[0]) + len(missing) != len(COLUMNS):
+            sys.exit(f"qstar: {path} has columns {list(rows[0])}; cannot upgrade to {COLUMNS}")
+        with path.open("w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(COLUMNS)
+            for r in rows:
+                w.writerow([r.get(c, COLUMN_DEFAULTS.get(c)) for c in COLUMNS])
+    new = not path.exists() or not rows
+    with path.open("w" if new else "a", newline="") as f:
         w = csv.writer(f)
         if new:
             w.writerow(COLUMNS)
@@ -251,6 +273,12 @@ def main():
     p.add_argument("--weibull-k", type=float, default=4e35, help="m^-3 (BA99 basalt)")
     p.add_argument("--weibull-m", type=float, default=9.0)
     p.add_argument("--points-per-radius", type=float, default=10.0)
+    p.add_argument("--points-per-cell", type=int, default=2,
+                   help="points per cell per axis (the cell is this many point spacings)")
+    p.add_argument("--seed", type=int, default=1, help="flaw seed (fracture.seed)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="scene override passed to `shatter run --set` (repeatable), e.g. "
+                   "solver.transfer=\"xpic\"")
     p.add_argument("--mesh", type=int, default=64, help="gravity mesh nodes per side")
     p.add_argument("--crossings", type=float, default=10.0,
                    help="end time in target sound crossings (2 R / c)")
@@ -290,7 +318,8 @@ def main():
                    "q_hi_J_per_kg": f"{r_hi['q_actual']:.6g}", "f_lo": f"{r_lo['fraction']:.4f}",
                    "f_hi": f"{r_hi['fraction']:.4f}", "tolerance": o.tolerance,
                    "cpu_s": f"{sum(r['cpu_s'] for r in cache.values()):.0f}",
-                   "ba99_fit_J_per_kg": f"{fit:.6g}"})
+                   "ba99_fit_J_per_kg": f"{fit:.6g}", "seed": o.seed,
+                   "points_per_cell": o.points_per_cell, "options": " ".join(o.set)})
     if o.plot:
         plot(o.csv, o.plot)
 
