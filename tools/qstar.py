@@ -184,11 +184,22 @@ def evaluate(o, qs, cache):
 def bracket(o, cache):
     """(Q_lo, Q_hi) with f(Q_lo) >= 1/2 > f(Q_hi)."""
     q = o.q_guess if o.q_guess else ba99_qstar(o.radius, o.speed if o.speed in BA99_FIT else 3.0)
-    for _ in range(o.max_bracket):
-        f_q, f_up = evaluate(o, [q, q * o.step], cache)
-        if f_q >= 0.5 > f_up:
-            return q, q * o.step
-        q = q * o.step if f_up >= 0.5 else q / o.step
+    if o.jobs == 1:
+        # one trial at a time: step from the guess towards f = 1/2, so a guess on the wrong side
+        # costs no trial on the far side
+        f_q = evaluate(o, [q], cache)[0]
+        for _ in range(o.max_bracket):
+            nxt = q * o.step if f_q >= 0.5 else q / o.step
+            f_n = evaluate(o, [nxt], cache)[0]
+            if (f_q >= 0.5) != (f_n >= 0.5):
+                return (q, nxt) if f_q >= 0.5 else (nxt, q)
+            q, f_q = nxt, f_n
+    else:
+        for _ in range(o.max_bracket):
+            f_q, f_up = evaluate(o, [q, q * o.step], cache)
+            if f_q >= 0.5 > f_up:
+                return q, q * o.step
+            q = q * o.step if f_up >= 0.5 else q / o.step
     sys.exit("qstar: no bracket found; widen --step or --max-bracket")
 
 
