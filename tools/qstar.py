@@ -45,9 +45,14 @@ COLUMN_DEFAULTS = {"seed": "1", "points_per_cell": "2", "options": ""}
 BA99_FIT = {3.0: (3.5e7, -0.38, 0.3, 1.36), 5.0: (9.0e7, -0.36, 0.5, 1.36)}
 
 
-def ba99_qstar(radius_m, speed_km_s, rho=2.7):
-    """BA99's fitted Q*_D in J/kg (1 erg/g = 1e-4 J/kg) at radius_m, for their two speeds."""
-    q0, a, b_coef, b = BA99_FIT[speed_km_s]
+# The other transcription of BA99's 5 km/s basalt row (docs/validation-qstar.md): drawn beside it.
+BA99_FIT_5_ALT = (7.0e7, -0.38, 0.5, 1.36)
+
+
+def ba99_qstar(radius_m, speed_km_s, rho=2.7, consts=None):
+    """BA99's fitted Q*_D in J/kg (1 erg/g = 1e-4 J/kg) at radius_m, for their two speeds (or
+    for the constants given)."""
+    q0, a, b_coef, b = consts or BA99_FIT[speed_km_s]
     r_cm = radius_m * 100.0
     return 1e-4 * (q0 * r_cm ** a + b_coef * rho * r_cm ** b)
 
@@ -239,39 +244,72 @@ def append_row(o, row):
 
 
 def plot(csv_path, png):
-    """Every CSV row, grouped by method, speed and resolution, with its bracket as an error bar,
-    against BA99's fitted curves (constants unverified: docs/validation-qstar.md)."""
+    """Every CSV row against BA99's fitted curves (constants unverified: docs/validation-qstar.md),
+    with its bracket as an error bar. Left: the curves (rows with the default flaw seed, 2 points
+    per cell and no overrides, grouped by method, material, speed, resolution and end time).
+    Right: the variants at single sizes (other flaw seeds, other settings), beside the curve rows
+    at the same speed and resolution for reference."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     rows = list(csv.DictReader(open(csv_path)))
-    fig, ax = plt.subplots(figsize=(6.5, 4.8))
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), sharey=True)
     radii = [10 ** (e / 10) for e in range(-25, 51)]
-    for v, style in ((3.0, "--"), (5.0, ":")):
-        ax.loglog(radii, [ba99_qstar(r, v) for r in radii], "k" + style,
-                  label=f"BA99 fit {v:g} km/s (Table III, unverified)")
-    groups = {}
-    for r in rows:
-        key = (r["method"], r["speed_km_s"], float(r.get("points_per_radius") or 0),
-               float(r.get("crossings") or 0))
-        groups.setdefault(key, []).append(r)
-    for (method, speed, ppr, crossings), rs in sorted(groups.items()):
+    fits = [(3.0, BA99_FIT[3.0], "k--", "BA99 fit 3 km/s"),
+            (5.0, BA99_FIT[5.0], "k:", "BA99 fit 5 km/s (Q0 9.0e7, a -0.36)"),
+            (5.0, BA99_FIT_5_ALT, "k-.", "BA99 fit 5 km/s as also transcribed (Q0 7.0e7, a -0.38)")]
+    for ax in axes:
+        for _, consts, style, label in fits:
+            ax.loglog(radii, [ba99_qstar(r, None, consts=consts) for r in radii], style,
+                      lw=1, label=label + " (Table III, unverified)")
+
+    def variant(r):
+        return (r.get("seed") or "1") != "1" or (r.get("points_per_cell") or "2") != "2" or \
+            bool(r.get("options")) or float(r.get("crossings") or 5) != 5.0
+
+    def draw(ax, rs, fmt, label):
         rs.sort(key=lambda r: float(r["radius_m"]))
         x = [float(r["radius_m"]) for r in rs]
         y = [float(r["qstar_J_per_kg"]) for r in rs]
         lo = [yy - float(r.get("q_lo_J_per_kg") or yy) for r, yy in zip(rs, y)]
         hi = [float(r.get("q_hi_J_per_kg") or yy) - yy for r, yy in zip(rs, y)]
-        # a line only through a curve (3 sizes or more), not between two spot checks
-        ax.errorbar(x, y, yerr=[lo, hi], fmt="o-" if len(rs) > 2 else "s", ms=4, capsize=2,
-                    label=f"shatter {method.upper()} {float(speed):g} km/s, {ppr:g} points/radius, "
-                    f"{crossings:g} crossings")
-    ax.set_xlabel("target radius (m)")
-    ax.set_ylabel("Q*_D (J/kg)")
-    ax.set_title("Basalt (BA99), 45 degrees", fontsize=10)
-    ax.legend(fontsize=7)
-    ax.grid(True, which="major", alpha=0.3)
+        ax.errorbar(x, y, yerr=[lo, hi], fmt=fmt, ms=4, capsize=2, label=label)
+
+    curves, variants = {}, {}
+    for r in rows:
+        key = (r["method"], r["material"], float(r["speed_km_s"]),
+               float(r.get("points_per_radius") or 0))
+        if variant(r):
+            vkey = key + (r.get("seed") or "1", r.get("points_per_cell") or "2",
+                          r.get("options") or "", float(r.get("crossings") or 5))
+            variants.setdefault(vkey, []).append(r)
+        else:
+            curves.setdefault(key, []).append(r)
+    for (method, material, speed, ppr), rs in sorted(curves.items()):
+        draw(axes[0], rs, "o-" if len(rs) > 2 else "s",
+             f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R")
+    for (method, material, speed, ppr, seed, ppc, options, cross), rs in sorted(variants.items()):
+        what = [f"seed {seed}"] if seed != "1" else []
+        what += [f"{cross:g} crossings"] if cross != 5.0 else []
+        what += [f"{ppc} pt/cell " + options.replace("solver.", "")] if ppc != "2" or options else []
+        draw(axes[1], rs, "D", f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R, "
+             + ", ".join(what))
+    for key, rs in sorted(curves.items()):
+        # the curve's rows at the sizes where it has variants
+        at = {r["radius_m"] for k, vs in variants.items() if k[:4] == key for r in vs}
+        if at:
+            method, material, speed, ppr = key
+            draw(axes[1], [r for r in rs if r["radius_m"] in at], "o", f"{method.upper()} "
+                 f"{material} {speed:g} km/s, {ppr:g} pts/R, seed 1, 5 crossings (left)")
+    axes[0].set_title("Q*_D curves, 45 degrees, 5 crossings", fontsize=10)
+    axes[1].set_title("Variants at single sizes (3 km/s)", fontsize=10)
+    for ax in axes:
+        ax.set_xlabel("target radius (m)")
+        ax.legend(fontsize=6)
+        ax.grid(True, which="major", alpha=0.3)
+    axes[0].set_ylabel("Q*_D (J/kg)")
     fig.tight_layout()
-    fig.savefig(png, dpi=120)
+    fig.savefig(png, dpi=110)
 
 
 def main():
