@@ -244,3 +244,27 @@ def test_qstar_scene_and_csv_columns(tmp_path):
     assert list(rows[0].keys()) == q.COLUMNS and len(rows) == 2
     assert (rows[0]["seed"], rows[0]["points_per_cell"], rows[0]["options"]) == ("1", "2", "")
     assert rows[1]["seed"] == "2"
+
+
+def test_qstar_plot_draws_curves_and_variants(tmp_path):
+    """tools/qstar.py --plot-only: a CSV with a curve (three sizes), a variant row (another
+    flaw seed) and a row in the older column set (no seed column) draws a non-empty PNG."""
+    q = _qstar()
+    legacy = q.COLUMNS[:q.COLUMNS.index("seed")]
+    path = tmp_path / "q.csv"
+    lines = [",".join(q.COLUMNS)]
+    for radius, seed in ((1.0, 1), (100.0, 1), (1000.0, 1), (1000.0, 2)):
+        row = dict(radius_m=radius, speed_km_s=3.0, angle_deg=45.0, method="mpm",
+                   material="basalt_ba99", qstar_J_per_kg=500.0, runs=5, points_per_target=7208,
+                   points_per_radius=12.0, crossings=5.0, q_lo_J_per_kg=450.0,
+                   q_hi_J_per_kg=550.0, f_lo=0.55, f_hi=0.45, tolerance=0.25, cpu_s=10,
+                   ba99_fit_J_per_kg=555.0, seed=seed, points_per_cell=2, options="")
+        lines.append(",".join(str(row[c]) for c in q.COLUMNS))
+    path.write_text("\n".join(lines) + "\n")
+    q.plot(str(path), str(tmp_path / "q.png"))
+    assert (tmp_path / "q.png").stat().st_size > 10000
+    old = tmp_path / "old.csv"
+    old.write_text("\n".join([",".join(legacy)] + [",".join(l.split(",")[:len(legacy)])
+                                                   for l in lines[1:]]) + "\n")
+    q.plot(str(old), str(tmp_path / "old.png"))
+    assert (tmp_path / "old.png").stat().st_size > 10000
