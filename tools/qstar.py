@@ -264,8 +264,10 @@ def plot(csv_path, png):
                       lw=1, label=label + " (Table III, unverified)")
 
     def variant(r):
+        # a catalogue of one's own only names where the material comes from: not a variant
+        options = [o for o in (r.get("options") or "").split() if not o.startswith("catalogue=")]
         return (r.get("seed") or "1") != "1" or (r.get("points_per_cell") or "2") != "2" or \
-            bool(r.get("options")) or float(r.get("crossings") or 5) != 5.0
+            bool(options) or float(r.get("crossings") or 5) != 5.0
 
     def draw(ax, rs, fmt, label):
         rs.sort(key=lambda r: float(r["radius_m"]))
