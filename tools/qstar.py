@@ -253,7 +253,7 @@ def plot(csv_path, png):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     rows = list(csv.DictReader(open(csv_path)))
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), sharey=True)
+    fig, axes = plt.subplots(1, 2, figsize=(13, 7.5), sharey=True)
     radii = [10 ** (e / 10) for e in range(-25, 51)]
     fits = [(3.0, BA99_FIT[3.0], "k--", "BA99 fit 3 km/s"),
             (5.0, BA99_FIT[5.0], "k:", "BA99 fit 5 km/s (Q0 9.0e7, a -0.36)"),
@@ -288,7 +288,8 @@ def plot(csv_path, png):
         else:
             curves.setdefault(key, []).append(r)
     for (method, material, speed, ppr), rs in sorted(curves.items()):
-        draw(axes[0], rs, "o-" if len(rs) > 2 else "s",
+        line = "o-" if speed == 3.0 else "s--"  # 5 km/s dashed
+        draw(axes[0], rs, line if len(rs) > 2 else line[0],
              f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R")
     for (method, material, speed, ppr, seed, ppc, options, cross), rs in sorted(variants.items()):
         what = [f"seed {seed}"] if seed != "1" else []
@@ -307,7 +308,8 @@ def plot(csv_path, png):
     axes[1].set_title("Variants at single sizes (3 km/s)", fontsize=10)
     for ax in axes:
         ax.set_xlabel("target radius (m)")
-        ax.legend(fontsize=6)
+        # below the axes: the curves span the whole plot
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)
         ax.grid(True, which="major", alpha=0.3)
     axes[0].set_ylabel("Q*_D (J/kg)")
     fig.tight_layout()
