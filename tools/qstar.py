@@ -33,7 +33,11 @@ from pathlib import Path
 
 COLUMNS = ["radius_m", "speed_km_s", "angle_deg", "method", "material", "qstar_J_per_kg", "runs",
            "points_per_target", "points_per_radius", "crossings", "q_lo_J_per_kg", "q_hi_J_per_kg",
-           "f_lo", "f_hi", "tolerance", "cpu_s", "ba99_fit_J_per_kg"]
+           "f_lo", "f_hi", "tolerance", "cpu_s", "ba99_fit_J_per_kg", "seed", "points_per_cell",
+           "options"]
+# Rows written before a column existed get its value for the scenes those runs used: the default
+# flaw seed (fracture.seed = 1), 2 x 2 x 2 points per cell, no --set overrides.
+COLUMN_DEFAULTS = {"seed": "1", "points_per_cell": "2", "options": ""}
 # BA99 Table III (basalt): Q*_D = Q0 (R / 1 cm)^a + B rho (R / 1 cm)^b, Q in erg/g, rho in g/cm^3.
 # Not verified against the paper (its table could not be read; docs/validation-qstar.md, "The fit
 # constants"): the 3 km/s row matches the one secondary transcription found, the 5 km/s row
@@ -41,9 +45,14 @@ COLUMNS = ["radius_m", "speed_km_s", "angle_deg", "method", "material", "qstar_J
 BA99_FIT = {3.0: (3.5e7, -0.38, 0.3, 1.36), 5.0: (9.0e7, -0.36, 0.5, 1.36)}
 
 
-def ba99_qstar(radius_m, speed_km_s, rho=2.7):
-    """BA99's fitted Q*_D in J/kg (1 erg/g = 1e-4 J/kg) at radius_m, for their two speeds."""
-    q0, a, b_coef, b = BA99_FIT[speed_km_s]
+# The other transcription of BA99's 5 km/s basalt row (docs/validation-qstar.md): drawn beside it.
+BA99_FIT_5_ALT = (7.0e7, -0.38, 0.5, 1.36)
+
+
+def ba99_qstar(radius_m, speed_km_s, rho=2.7, consts=None):
+    """BA99's fitted Q*_D in J/kg (1 erg/g = 1e-4 J/kg) at radius_m, for their two speeds (or
+    for the constants given)."""
+    q0, a, b_coef, b = consts or BA99_FIT[speed_km_s]
     r_cm = radius_m * 100.0
     return 1e-4 * (q0 * r_cm ** a + b_coef * rho * r_cm ** b)
 
@@ -52,12 +61,13 @@ def scene_text(o, q, run_dir):
     """The trial's scene: impactor radius from Q = (1/2) m v^2 / M_target (same density)."""
     v = o.speed * 1e3
     imp_radius = o.radius * (2.0 * q / (v * v)) ** (1.0 / 3.0)
-    cell = 2.0 * o.radius / o.points_per_radius  # 2 x 2 x 2 points per cell
+    spacing = o.radius / o.points_per_radius  # points_per_radius points along a radius
+    cell = o.points_per_cell * spacing
     half = 3.0 * o.radius
     end = o.crossings * 2.0 * o.radius / o.sound_speed
     # The impactor gets at least two points per radius, finer than the target's when it is small
     # (a sub-resolution impactor has no points); its mass is its own volume's either way.
-    imp_spacing = min(0.5 * cell, 0.5 * imp_radius)
+    imp_spacing = min(spacing, 0.5 * imp_radius)
     return f"""# tools/qstar.py trial: Q = {q:.6g} J/kg
 name = "qstar"
 [solver]
@@ -68,6 +78,8 @@ end_time = {end:.9g}
 lo = [{-half:.9g}, {-half:.9g}, {-half:.9g}]
 hi = [{half:.9g}, {half:.9g}, {half:.9g}]
 boundary = "outflow"
+[fracture]
+seed = {o.seed}
 [gravity]
 self = true
 equilibrium = true
@@ -77,6 +89,7 @@ shape = "sphere"
 centre = [0.0, 0.0, 0.0]
 radius = {o.radius:.9g}
 material = "{o.material}"
+points_per_cell = {o.points_per_cell}
 [body.target.damage]
 model = "grady_kipp"
 weibull_m = {o.weibull_m}
@@ -136,6 +149,8 @@ def trial(o, q):
     scene.write_text(scene_text(o, q, run_dir / "out"))
     env = dict(os.environ, OMP_NUM_THREADS="1")
     threads = ["--threads", str(o.threads)] if o.threads else []
+    for kv in o.set:
+        threads += ["--set", kv]
     cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     wall0 = time.time()
     with open(run_dir / "run.log", "w") as log:
@@ -174,11 +189,22 @@ def evaluate(o, qs, cache):
 def bracket(o, cache):
     """(Q_lo, Q_hi) with f(Q_lo) >= 1/2 > f(Q_hi)."""
     q = o.q_guess if o.q_guess else ba99_qstar(o.radius, o.speed if o.speed in BA99_FIT else 3.0)
-    for _ in range(o.max_bracket):
-        f_q, f_up = evaluate(o, [q, q * o.step], cache)
-        if f_q >= 0.5 > f_up:
-            return q, q * o.step
-        q = q * o.step if f_up >= 0.5 else q / o.step
+    if o.jobs == 1:
+        # one trial at a time: step from the guess towards f = 1/2, so a guess on the wrong side
+        # costs no trial on the far side
+        f_q = evaluate(o, [q], cache)[0]
+        for _ in range(o.max_bracket):
+            nxt = q * o.step if f_q >= 0.5 else q / o.step
+            f_n = evaluate(o, [nxt], cache)[0]
+            if (f_q >= 0.5) != (f_n >= 0.5):
+                return (q, nxt) if f_q >= 0.5 else (nxt, q)
+            q, f_q = nxt, f_n
+    else:
+        for _ in range(o.max_bracket):
+            f_q, f_up = evaluate(o, [q, q * o.step], cache)
+            if f_q >= 0.5 > f_up:
+                return q, q * o.step
+            q = q * o.step if f_up >= 0.5 else q / o.step
     sys.exit("qstar: no bracket found; widen --step or --max-bracket")
 
 
@@ -196,9 +222,21 @@ def bisect(o, cache, lo, hi):
 
 
 def append_row(o, row):
+    """Appends a row; a CSV written before a column existed is rewritten once with that column
+    filled from COLUMN_DEFAULTS (what those runs used)."""
     path = Path(o.csv)
-    new = not path.exists()
-    with path.open("a", newline="") as f:
+    rows = list(csv.DictReader(path.open())) if path.exists() else []
+    if rows and list(rows[0].keys()) != COLUMNS:
+        missing = [c for c in COLUMNS if c not in rows[0]]
+        if any(c not in COLUMN_DEFAULTS for c in missing) or len(rows[0]) + len(missing) != len(COLUMNS):
+            sys.exit(f"qstar: {path} has columns {list(rows[0])}; cannot upgrade to {COLUMNS}")
+        with path.open("w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(COLUMNS)
+            for r in rows:
+                w.writerow([r.get(c, COLUMN_DEFAULTS.get(c)) for c in COLUMNS])
+    new = not path.exists() or not rows
+    with path.open("w" if new else "a", newline="") as f:
         w = csv.writer(f)
         if new:
             w.writerow(COLUMNS)
@@ -206,39 +244,76 @@ def append_row(o, row):
 
 
 def plot(csv_path, png):
-    """Every CSV row, grouped by method, speed and resolution, with its bracket as an error bar,
-    against BA99's fitted curves (constants unverified: docs/validation-qstar.md)."""
+    """Every CSV row against BA99's fitted curves (constants unverified: docs/validation-qstar.md),
+    with its bracket as an error bar. Left: the curves (rows with the default flaw seed, 2 points
+    per cell and no overrides, grouped by method, material, speed, resolution and end time).
+    Right: the variants at single sizes (other flaw seeds, other settings), beside the curve rows
+    at the same speed and resolution for reference."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     rows = list(csv.DictReader(open(csv_path)))
-    fig, ax = plt.subplots(figsize=(6.5, 4.8))
+    fig, axes = plt.subplots(1, 2, figsize=(13, 7.5), sharey=True)
     radii = [10 ** (e / 10) for e in range(-25, 51)]
-    for v, style in ((3.0, "--"), (5.0, ":")):
-        ax.loglog(radii, [ba99_qstar(r, v) for r in radii], "k" + style,
-                  label=f"BA99 fit {v:g} km/s (Table III, unverified)")
-    groups = {}
-    for r in rows:
-        key = (r["method"], r["speed_km_s"], float(r.get("points_per_radius") or 0),
-               float(r.get("crossings") or 0))
-        groups.setdefault(key, []).append(r)
-    for (method, speed, ppr, crossings), rs in sorted(groups.items()):
+    fits = [(3.0, BA99_FIT[3.0], "k--", "BA99 fit 3 km/s"),
+            (5.0, BA99_FIT[5.0], "k:", "BA99 fit 5 km/s (Q0 9.0e7, a -0.36)"),
+            (5.0, BA99_FIT_5_ALT, "k-.", "BA99 fit 5 km/s as also transcribed (Q0 7.0e7, a -0.38)")]
+    for ax in axes:
+        for _, consts, style, label in fits:
+            ax.loglog(radii, [ba99_qstar(r, None, consts=consts) for r in radii], style,
+                      lw=1, label=label + " (Table III, unverified)")
+
+    def variant(r):
+        # a catalogue of one's own only names where the material comes from: not a variant
+        options = [o for o in (r.get("options") or "").split() if not o.startswith("catalogue=")]
+        return (r.get("seed") or "1") != "1" or (r.get("points_per_cell") or "2") != "2" or \
+            bool(options) or float(r.get("crossings") or 5) != 5.0
+
+    def draw(ax, rs, fmt, label):
         rs.sort(key=lambda r: float(r["radius_m"]))
         x = [float(r["radius_m"]) for r in rs]
         y = [float(r["qstar_J_per_kg"]) for r in rs]
         lo = [yy - float(r.get("q_lo_J_per_kg") or yy) for r, yy in zip(rs, y)]
         hi = [float(r.get("q_hi_J_per_kg") or yy) - yy for r, yy in zip(rs, y)]
-        # a line only through a curve (3 sizes or more), not between two spot checks
-        ax.errorbar(x, y, yerr=[lo, hi], fmt="o-" if len(rs) > 2 else "s", ms=4, capsize=2,
-                    label=f"shatter {method.upper()} {float(speed):g} km/s, {ppr:g} points/radius, "
-                    f"{crossings:g} crossings")
-    ax.set_xlabel("target radius (m)")
-    ax.set_ylabel("Q*_D (J/kg)")
-    ax.set_title("Basalt (BA99), 45 degrees", fontsize=10)
-    ax.legend(fontsize=7)
-    ax.grid(True, which="major", alpha=0.3)
+        ax.errorbar(x, y, yerr=[lo, hi], fmt=fmt, ms=4, capsize=2, label=label)
+
+    curves, variants = {}, {}
+    for r in rows:
+        key = (r["method"], r["material"], float(r["speed_km_s"]),
+               float(r.get("points_per_radius") or 0))
+        if variant(r):
+            vkey = key + (r.get("seed") or "1", r.get("points_per_cell") or "2",
+                          r.get("options") or "", float(r.get("crossings") or 5))
+            variants.setdefault(vkey, []).append(r)
+        else:
+            curves.setdefault(key, []).append(r)
+    for (method, material, speed, ppr), rs in sorted(curves.items()):
+        line = "o-" if speed == 3.0 else "s--"  # 5 km/s dashed
+        draw(axes[0], rs, line if len(rs) > 2 else line[0],
+             f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R")
+    for (method, material, speed, ppr, seed, ppc, options, cross), rs in sorted(variants.items()):
+        what = [f"seed {seed}"] if seed != "1" else []
+        what += [f"{cross:g} crossings"] if cross != 5.0 else []
+        what += [f"{ppc} pt/cell " + options.replace("solver.", "")] if ppc != "2" or options else []
+        draw(axes[1], rs, "D", f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R, "
+             + ", ".join(what))
+    for key, rs in sorted(curves.items()):
+        # the curve's rows at the sizes where it has variants
+        at = {r["radius_m"] for k, vs in variants.items() if k[:4] == key for r in vs}
+        if at:
+            method, material, speed, ppr = key
+            draw(axes[1], [r for r in rs if r["radius_m"] in at], "o", f"{method.upper()} "
+                 f"{material} {speed:g} km/s, {ppr:g} pts/R, seed 1, 5 crossings (left)")
+    axes[0].set_title("Q*_D curves, 45 degrees, 5 crossings", fontsize=10)
+    axes[1].set_title("Variants at single sizes (3 km/s)", fontsize=10)
+    for ax in axes:
+        ax.set_xlabel("target radius (m)")
+        # below the axes: the curves span the whole plot
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)
+        ax.grid(True, which="major", alpha=0.3)
+    axes[0].set_ylabel("Q*_D (J/kg)")
     fig.tight_layout()
-    fig.savefig(png, dpi=120)
+    fig.savefig(png, dpi=110)
 
 
 def main():
@@ -251,6 +326,12 @@ def main():
     p.add_argument("--weibull-k", type=float, default=4e35, help="m^-3 (BA99 basalt)")
     p.add_argument("--weibull-m", type=float, default=9.0)
     p.add_argument("--points-per-radius", type=float, default=10.0)
+    p.add_argument("--points-per-cell", type=int, default=2,
+                   help="points per cell per axis (the cell is this many point spacings)")
+    p.add_argument("--seed", type=int, default=1, help="flaw seed (fracture.seed)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="scene override passed to `shatter run --set` (repeatable), e.g. "
+                   "solver.transfer=\"xpic\"")
     p.add_argument("--mesh", type=int, default=64, help="gravity mesh nodes per side")
     p.add_argument("--crossings", type=float, default=10.0,
                    help="end time in target sound crossings (2 R / c)")
@@ -290,7 +371,8 @@ def main():
                    "q_hi_J_per_kg": f"{r_hi['q_actual']:.6g}", "f_lo": f"{r_lo['fraction']:.4f}",
                    "f_hi": f"{r_hi['fraction']:.4f}", "tolerance": o.tolerance,
                    "cpu_s": f"{sum(r['cpu_s'] for r in cache.values()):.0f}",
-                   "ba99_fit_J_per_kg": f"{fit:.6g}"})
+                   "ba99_fit_J_per_kg": f"{fit:.6g}", "seed": o.seed,
+                   "points_per_cell": o.points_per_cell, "options": " ".join(o.set)})
     if o.plot:
         plot(o.csv, o.plot)
 

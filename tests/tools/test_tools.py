@@ -256,3 +256,80 @@ def test_beta_refuses_a_run_without_beta_columns(tiny_run):
 
 def run_tool_beta(run_dir, *args):
     return run([PYTHON, os.path.join(TOOLS, "beta.py"), str(run_dir), *args])
+
+
+def test_qstar_bracket_from_either_side(tmp_path):
+    """tools/qstar.py, one trial at a time: from a guess 3x above or below Q*_D (f = 1/2 at
+    1000 J/kg), the bracket costs the guess plus one trial per factor of --step crossed (no trial
+    on the far side of the guess), and the parallel path (--jobs 2) ends in a bracket holding
+    1000 as well."""
+    q = _qstar()
+    import argparse
+    for guess, jobs in ((3000.0, 1), (333.0, 1), (3000.0, 2)):
+        calls = []
+
+        def stand_in(o, qq):
+            calls.append(qq)
+            return {"q": qq, "q_actual": qq, "fraction": 1.0 / (1.0 + (qq / 1000.0) ** 2),
+                    "cpu_s": 0.0}
+
+        q.trial = stand_in
+        o = argparse.Namespace(q_guess=guess, step=2.0, max_bracket=8, tolerance=0.25, jobs=jobs,
+                               radius=1.0, speed=3.0, work=str(tmp_path / f"{guess}_{jobs}"))
+        (tmp_path / f"{guess}_{jobs}").mkdir()
+        cache = {}
+        lo, hi = q.bracket(o, cache)
+        assert lo <= 1000.0 <= hi and abs(hi / lo - 2.0) < 1e-12
+        if jobs == 1:
+            assert len(calls) == 3  # the guess and two halvings (or doublings)
+        lo, hi = q.bisect(o, cache, lo, hi)
+        assert lo <= 1000.0 <= hi and hi / lo < 1.25
+
+
+def test_qstar_scene_and_csv_columns(tmp_path):
+    """tools/qstar.py: the trial scene carries the flaw seed and the points per cell (the cell
+    is that many point spacings, points_per_radius spacings to the target radius), and a CSV
+    written before the seed, points_per_cell and options columns existed is upgraded once with
+    the values its runs used (seed 1, 2 points per cell, no overrides) before a row is added."""
+    import argparse
+    import csv as csvmod
+    q = _qstar()
+    o = argparse.Namespace(speed=3.0, radius=2.0, points_per_radius=8.0, points_per_cell=1,
+                           crossings=5.0, sound_speed=4595.0, method="mpm", mesh=32, seed=7,
+                           material="basalt_ba99", weibull_m=9.0, weibull_k=4e35, angle=45.0)
+    text = q.scene_text(o, 1000.0, tmp_path / "out")
+    assert "[fracture]\nseed = 7\n" in text and "points_per_cell = 1\n" in text
+    assert "cell_size = 0.25\n" in text  # 1 point per cell, 8 spacings per 2 m radius
+    old = tmp_path / "old.csv"
+    legacy = q.COLUMNS[:q.COLUMNS.index("seed")]
+    old.write_text(",".join(legacy) + "\n" + ",".join("1" for _ in legacy) + "\n")
+    row = {c: "2" for c in q.COLUMNS}
+    q.append_row(argparse.Namespace(csv=str(old)), row)
+    rows = list(csvmod.DictReader(old.open()))
+    assert list(rows[0].keys()) == q.COLUMNS and len(rows) == 2
+    assert (rows[0]["seed"], rows[0]["points_per_cell"], rows[0]["options"]) == ("1", "2", "")
+    assert rows[1]["seed"] == "2"
+
+
+def test_qstar_plot_draws_curves_and_variants(tmp_path):
+    """tools/qstar.py --plot-only: a CSV with a curve (three sizes), a variant row (another
+    flaw seed) and a row in the older column set (no seed column) draws a non-empty PNG."""
+    q = _qstar()
+    legacy = q.COLUMNS[:q.COLUMNS.index("seed")]
+    path = tmp_path / "q.csv"
+    lines = [",".join(q.COLUMNS)]
+    for radius, seed in ((1.0, 1), (100.0, 1), (1000.0, 1), (1000.0, 2)):
+        row = dict(radius_m=radius, speed_km_s=3.0, angle_deg=45.0, method="mpm",
+                   material="basalt_ba99", qstar_J_per_kg=500.0, runs=5, points_per_target=7208,
+                   points_per_radius=12.0, crossings=5.0, q_lo_J_per_kg=450.0,
+                   q_hi_J_per_kg=550.0, f_lo=0.55, f_hi=0.45, tolerance=0.25, cpu_s=10,
+                   ba99_fit_J_per_kg=555.0, seed=seed, points_per_cell=2, options="")
+        lines.append(",".join(str(row[c]) for c in q.COLUMNS))
+    path.write_text("\n".join(lines) + "\n")
+    q.plot(str(path), str(tmp_path / "q.png"))
+    assert (tmp_path / "q.png").stat().st_size > 10000
+    old = tmp_path / "old.csv"
+    old.write_text("\n".join([",".join(legacy)] + [",".join(l.split(",")[:len(legacy)])
+                                                   for l in lines[1:]]) + "\n")
+    q.plot(str(old), str(tmp_path / "old.png"))
+    assert (tmp_path / "old.png").stat().st_size > 10000
