@@ -169,8 +169,15 @@ void SphSolver::Impl::forces() {
     f.alpha = alpha.data();
   }
   for (int d = 0; d < 3; ++d) f.gravity[d] = s.config_.gravity[d];
-  if (pair_w.size() < search.pairs()) pair_w.resize(search.pairs());
-  if (active.size() < search.pairs()) active.resize(search.pairs());
+  // Exactly the pairs (reserve first: resize alone would double the capacity).
+  if (pair_w.size() < search.pairs()) {
+    pair_w.reserve(search.pairs());
+    pair_w.resize(search.pairs());
+  }
+  if (active.size() < search.pairs()) {
+    active.reserve(search.pairs());
+    active.resize(search.pairs());
+  }
   active_count.resize(n);
   const ks::ForceOutputs out{ax.data(),   ay.data(), az.data(),
                              heat.data(), mu.data(), pair_w.data()};
