@@ -71,11 +71,23 @@ total_flaws = 1.0e9
 
 std::size_t solver_bytes(const sph::SphSolver& sim) {
   // h, h_mid, a (3), heat, mu, kick heat: 8 doubles per particle; sigma / rho^2: 6; the compacted
-  // list's count (4 B); per list entry: the search's index (in bytes()), the compacted index
-  // (4 B) and one viscous weight (8 B).
+  // list's count (4 B) and where each particle's viscous weights start (8 B); per list entry: the
+  // search's index (in bytes()) and the compacted index (4 B); per pair within support (as the
+  // forces pass counts them): one viscous weight (8 B).
   const std::size_t n = sim.particles().size();
-  return n * (14 * sizeof(double) + sizeof(std::uint32_t)) + sim.neighbours().bytes() +
-         sim.neighbours().pairs() * (sizeof(double) + sizeof(std::uint32_t));
+  const auto& nb = sim.neighbours();
+  const auto x = sim.particles().col(Field::x), y = sim.particles().col(Field::y),
+             z = sim.particles().col(Field::z);
+  const auto h = sim.smoothing_length();
+  std::size_t within = 0;
+  for (std::size_t i = 0; i < nb.lists(); ++i) {
+    for (const std::uint32_t j : nb.of(i)) {
+      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j], reach = h[i] + h[j];
+      within += dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0;
+    }
+  }
+  return n * (14 * sizeof(double) + sizeof(std::uint32_t) + sizeof(std::size_t)) + nb.bytes() +
+         nb.pairs() * sizeof(std::uint32_t) + within * sizeof(double);
 }
 
 // Process CPU time (all threads), seconds.

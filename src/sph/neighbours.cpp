@@ -57,12 +57,11 @@ void rows_around(const std::vector<std::uint64_t>& cell_key,
 }  // namespace
 
 std::size_t NeighbourSearch::bytes() const {
-  return sizeof(std::uint32_t) *
-             (cell_.capacity() + cell_start_.capacity() + sorted_.capacity() + list_.capacity()) +
-         sizeof(std::size_t) * offsets_.capacity() + sizeof(std::uint64_t) * cell_key_.capacity() +
-         sizeof(KeyIndex) * keyed_.capacity() +
+  return sizeof(std::uint32_t) * (cell_.capacity() + cell_start_.capacity() + sorted_.capacity()) +
+         sizeof(std::size_t) * offsets_.capacity() +
+         sizeof(const std::uint32_t*) * begin_.capacity() +
+         sizeof(std::uint64_t) * cell_key_.capacity() + sizeof(KeyIndex) * keyed_.capacity() +
          sizeof(double) * (xs_.capacity() + ys_.capacity() + zs_.capacity() + hs_.capacity()) +
-         sizeof(std::size_t) * chunk_used_.capacity() +
          std::accumulate(chunk_list_.begin(), chunk_list_.end(), std::size_t{0},
                          [](std::size_t a, const std::vector<std::uint32_t>& v) {
                            return a + sizeof(std::uint32_t) * v.capacity();
@@ -105,6 +104,7 @@ bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const doubl
   keyed_.resize(n);
   offsets_.resize(n_lists + 1);
   offsets_[0] = 0;
+  begin_.resize(n_lists);
   cell_key_.clear();
   cell_start_.clear();
   if (n == 0) {
@@ -180,67 +180,63 @@ void NeighbourSearch::make_lists(const double* x, const double* y, const double*
                       }
                     });
 
-  // One pass over the candidates: each chunk of kGrain points (in sorted order, so neighbouring
-  // points share cache lines, and the points of one cell share their rows, found once) gathers
-  // its points' lists into its own buffer, kept between builds; the counts give the offsets, and
-  // the buffers are copied into place. Candidates are appended without a branch (written, then
-  // counted if within reach), into room for all of them. The chunks are fixed by n alone, and a
-  // list's content does not depend on its chunk, so any thread count gives the same lists.
-  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  // One pass over the candidates: each chunk of kGrain points in index order gathers its
+  // points' lists into its own buffer, kept between builds, where they stay: the buffers in chunk
+  // order are the lists in index order, as the passes read them (a copy into one array would
+  // hold every list twice). Points of one cell share their rows, found once per run of such
+  // points (all of a cell's points once the particles are re-ordered by cell). Candidates are
+  // appended without a branch (written, then counted if within reach), into room for all of
+  // them. The chunks are fixed by n_lists alone, and a list's content does not depend on its
+  // chunk, so any thread count gives the same lists.
+  const std::size_t chunks = (n_lists + kGrain - 1) / kGrain;
   if (chunk_list_.size() < chunks) chunk_list_.resize(chunks);
-  chunk_used_.resize(chunks);
+  const Coordinates at{x, y, z, h};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t c = r.begin(); c < r.end(); ++c) {
-                        gather_chunk(c, n, n_lists, skin);
+                        gather_chunk(c, at, n_lists, skin);
                       }
                     });
-  for (std::size_t i = 0; i < n_lists; ++i) offsets_[i + 1] += offsets_[i];
-  if (list_.size() < offsets_[n_lists]) list_.resize(offsets_[n_lists]);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t c = r.begin(); c < r.end(); ++c) {
-                        const std::uint32_t* from = chunk_list_[c].data();
-                        for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
-                          const std::size_t i = sorted_[s];
-                          if (i >= n_lists) continue;
-                          const std::size_t k = offsets_[i + 1] - offsets_[i];
-                          std::copy(from, from + k, list_.data() + offsets_[i]);
-                          from += k;
-                        }
-                      }
-                    });
+  // offsets_ held the counts; each list starts where the one before it in its chunk ended.
+  for (std::size_t i = 0; i < n_lists; ++i) {
+    const std::size_t m = offsets_[i + 1];
+    begin_[i] = i % kGrain == 0 ? chunk_list_[i / kGrain].data()
+                                : begin_[i - 1] + (offsets_[i] - offsets_[i - 1]);
+    offsets_[i + 1] = offsets_[i] + m;
+  }
 }
 
-// The lists of the points in sorted slots [c kGrain, (c + 1) kGrain), gathered into chunk c's
-// buffer (see make_lists).
-void NeighbourSearch::gather_chunk(std::size_t c, std::size_t n, std::size_t n_lists, double skin) {
+// The lists of points [c kGrain, (c + 1) kGrain) (of those with lists), gathered into chunk c's
+// buffer (see make_lists); offsets_[i + 1] = the count of i's list.
+void NeighbourSearch::gather_chunk(std::size_t c, const Coordinates& at, std::size_t n_lists,
+                                   double skin) {
   std::vector<std::uint32_t>& buf = chunk_list_[c];
   std::size_t used = 0;
   Rows rows;
   std::uint64_t rows_key = 0;
   bool have_rows = false;
-  for (std::size_t s = c * kGrain; s < std::min(n, (c + 1) * kGrain); ++s) {
-    const std::size_t i = sorted_[s];
-    if (i >= n_lists) continue;  // a point that is only a neighbour
-    const std::uint64_t key = keyed_[s].key;
+  for (std::size_t i = c * kGrain; i < std::min(n_lists, (c + 1) * kGrain); ++i) {
+    const std::uint64_t key = cell_key_[cell_[i]];
     if (!have_rows || key != rows_key) {
       rows_around(cell_key_, cell_start_, key, rows);
       rows_key = key;
       have_rows = true;
     }
     if (buf.size() < used + rows.candidates) {
-      buf.resize(std::max(2 * buf.size(), used + rows.candidates));
+      // The buffers hold the lists for good: grow by an eighth (not the doubling of resize),
+      // so that they hold little more than the lists.
+      buf.reserve(std::max(buf.size() + buf.size() / 8, used + rows.candidates));
+      buf.resize(buf.capacity());
     }
     std::uint32_t* out = buf.data() + used;
     std::size_t m = 0;
-    const double xi = xs_[s], yi = ys_[s], zi = zs_[s], hi_ = hs_[s];
+    const double xi = at.x[i], yi = at.y[i], zi = at.z[i], hi_ = at.h[i];
     for (std::uint32_t row = 0; row < rows.count; ++row) {
       for (std::uint32_t t = rows.s0[row]; t < rows.s1[row]; ++t) {
         const double dx = xi - xs_[t], dy = yi - ys_[t], dz = zi - zs_[t];
         const double reach = hi_ + hs_[t] + skin;  // 2 h_ij (+ the skin)
         out[m] = sorted_[t];
-        m += (dx * dx + dy * dy + dz * dz < reach * reach) & (t != s) ? 1 : 0;
+        m += (dx * dx + dy * dy + dz * dz < reach * reach) & (sorted_[t] != i) ? 1 : 0;
       }
     }
     // Ascending index: the canonical order, whatever the cells and skin.
@@ -248,7 +244,6 @@ void NeighbourSearch::gather_chunk(std::size_t c, std::size_t n, std::size_t n_l
     offsets_[i + 1] = m;
     used += m;
   }
-  chunk_used_[c] = used;
 }
 
 }  // namespace shatter::sph

@@ -112,6 +112,7 @@ struct SphSolver::Impl {
   // front of each list's slots (active_count[i] of them), and their viscous weights
   // (viscous_heating_term).
   std::vector<std::uint32_t> active, active_count;
+  std::vector<std::size_t> pair_at;  // n + 1: particle i's weights are pair_w[pair_at[i]...]
   std::vector<double> pair_w;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
   // The Morris & Monaghan switch: alpha per particle (state: follows the particles through the
@@ -169,6 +170,7 @@ struct SphSolver::Impl {
   void rates(double dt, double dt_kick);
   void material(double dt);
   void drift(double dt);
+  void compact_lists(const ks::PairInputs& in);
   void forces();
   void add_self_gravity();  // a += the particles' self-gravity (sph/gravity.cpp)
 

@@ -11,8 +11,8 @@
 // count, so a gather over a list with a skin (whose extra entries the forces pass compacts away)
 // sums the same terms in the same order as over a fresh list without one, and the sums have the
 // same bits. Buffers are reused: a build allocates only while a buffer grows past its largest size
-// so far (the lists are gathered in one pass per chunk of points into per-chunk buffers, then
-// copied into place), so a run stops allocating once its neighbour counts stop growing.
+// so far (the lists are gathered in one pass per chunk of points into per-chunk buffers, where
+// they stay), so a run stops allocating once its neighbour counts stop growing.
 
 #include <cstddef>
 #include <cstdint>
@@ -39,12 +39,11 @@ class NeighbourSearch {
   std::size_t size() const { return n_; }
   std::size_t lists() const { return lists_; }
   // Neighbours of point i < lists() (i itself excluded).
-  std::span<const std::uint32_t> of(std::size_t i) const {
-    return {list_.data() + offsets_[i], offsets_[i + 1] - offsets_[i]};
-  }
-  const std::uint32_t* begin_of(std::size_t i) const { return list_.data() + offsets_[i]; }
+  std::span<const std::uint32_t> of(std::size_t i) const { return {begin_[i], count(i)}; }
+  const std::uint32_t* begin_of(std::size_t i) const { return begin_[i]; }
   std::size_t count(std::size_t i) const { return offsets_[i + 1] - offsets_[i]; }
-  // Index of point i's first entry in the concatenated lists (for per-pair data).
+  // Index of point i's first entry in the lists concatenated in index order (for per-pair
+  // data, which the passes then stream in their own order).
   std::size_t offset(std::size_t i) const { return offsets_[i]; }
   // Total number of (ordered) pairs: sum over i of count(i).
   std::size_t pairs() const { return offsets_.empty() ? 0 : offsets_[lists_]; }
@@ -64,8 +63,11 @@ class NeighbourSearch {
                     std::size_t n, std::size_t n_lists, double skin);
   void make_lists(const double* x, const double* y, const double* z, const double* h, std::size_t n,
                   std::size_t n_lists, double skin);
-  // One chunk of make_lists: the lists of the points in sorted slots of chunk c.
-  void gather_chunk(std::size_t c, std::size_t n, std::size_t n_lists, double skin);
+  // One chunk of make_lists: the lists of the points of chunk c.
+  struct Coordinates {
+    const double *x, *y, *z, *h;
+  };
+  void gather_chunk(std::size_t c, const Coordinates& at, std::size_t n_lists, double skin);
 
   struct KeyIndex {
     std::uint64_t key;
@@ -82,11 +84,11 @@ class NeighbourSearch {
   std::vector<std::uint32_t> cell_;        // occupied-cell index of each point
   std::vector<std::uint32_t> cell_start_;  // first sorted slot of each occupied cell (+1 sentinel)
   std::vector<std::uint32_t> sorted_;      // point indices sorted by cell, then index
-  std::vector<std::size_t> offsets_;       // CSR offsets of the lists (n + 1)
-  std::vector<std::uint32_t> list_;        // neighbour indices
-  std::vector<double> xs_, ys_, zs_, hs_;  // positions and h in sorted order
+  std::vector<std::size_t> offsets_;       // CSR offsets of the lists in index order (n + 1)
+  // Point i's list, in its chunk's buffer (the lists stay there: no copy into one array).
+  std::vector<const std::uint32_t*> begin_;
+  std::vector<double> xs_, ys_, zs_, hs_;               // positions and h in sorted order
   std::vector<std::vector<std::uint32_t>> chunk_list_;  // per chunk of points, reused
-  std::vector<std::size_t> chunk_used_;                 // entries of each chunk's buffer in use
 };
 
 }  // namespace shatter::sph
