@@ -36,7 +36,7 @@ using namespace shatter;
 // each Tillotson region through a spread of density and energy).
 struct Columns {
   using Vec = std::vector<double, xsimd::aligned_allocator<double, 64>>;
-  Vec data[35];
+  Vec data[37];
   constitutive::ConstitutiveColumns c;
 
   Columns(std::size_t n, double rho0, double e_scale, bool damage = false) {
@@ -97,6 +97,8 @@ void run(benchmark::State& state, const Kernel& k, double rho0, double e_scale) 
       cols.data[0][i] *= 1.0 / cols.data[34][i];
     }
     cols.c.distension = cols.data[34].data();
+    cols.c.porosity = cols.data[35].data();
+    cols.c.compaction_heat = cols.data[36].data();
   }
   const constitutive::StepParams sp{1e-7, 1e-3, 0.5, 2.0};
   for (auto _ : state) {
@@ -165,6 +167,23 @@ void BM_Tillotson_Hydro_PAlpha(benchmark::State& s) {
   run(s, k, 2700.0, 5e6);
 }
 
+// JBM09's two-stage curve with pumice's fit (data/materials.toml `pumice`: alpha0 4.64, p_e 1 MPa,
+// p_t 68 MPa, alpha_t 1.9, p_s 213 MPa, exponents 12 and 3: two pow per crush evaluation).
+void BM_Tillotson_Hydro_PAlphaTwoStage(benchmark::State& s) {
+  porosity::PAlphaParams q;
+  q.alpha0 = 4.64;
+  q.p_e = 1.0e6;
+  q.p_s = 2.13e8;
+  q.n = 12.0;
+  q.p_t = 6.8e7;
+  q.alpha_t = 1.9;
+  q.n2 = 3.0;
+  const constitutive::ComposedKernel<eos::Tillotson, strength::Hydro, damage::NoDamage,
+                                     porosity::Porous>
+      k(kBasalt, {}, {}, constitutive::kDefaultCoupling, porosity::Porous::p_alpha(q));
+  run(s, k, 2700.0, 5e6);
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (int64_t n : shatter::bench::particle_counts({100000, 1000000})) {
     for (int64_t simd : {0, 1}) b->Args({n, simd});
@@ -179,6 +198,7 @@ BENCHMARK(BM_Tillotson_DruckerPrager)->Apply(sizes);
 BENCHMARK(BM_Tillotson_Hydro)->Apply(sizes);
 BENCHMARK(BM_Tillotson_Hydro_EpsAlpha)->Apply(sizes);
 BENCHMARK(BM_Tillotson_Hydro_PAlpha)->Apply(sizes);
+BENCHMARK(BM_Tillotson_Hydro_PAlphaTwoStage)->Apply(sizes);
 BENCHMARK(BM_MieGruneisen_Hydro)->Apply(sizes);
 BENCHMARK(BM_LinearElastic_Elastic)->Apply(sizes);
 BENCHMARK(BM_IdealGas_Hydro)->Apply(sizes);

@@ -5,7 +5,8 @@ Usage: plot_cross_section.py RUN_DIR [--times 10e-6 20e-6 ...] [--out FILE.png]
 Points of the layer next to the symmetry plane (or of |z| < spacing for a full model) are drawn;
 each panel names its slice. Damage from 0 to 0.9, failed points (D >= 0.9, the MPM paper's
 criterion) in cyan, and the speed |v| in m/s; with a peak_pressure column also the peak pressure
-in GPa. All panels share the axis ranges."""
+in GPa; with a distension column (a porous body, issue 29) also the porosity 1 - 1/alpha, the
+points of dense materials in grey. All panels share the axis ranges."""
 
 import argparse
 import os
@@ -16,6 +17,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import shatter_plot as sp
+
+
+def porosity(c):
+    """1 - 1/alpha of the porous points, NaN for the dense ones (their distension column is 0)."""
+    alpha = c["distension"]
+    return np.where(alpha >= 1.0, 1.0 - 1.0 / np.maximum(alpha, 1.0), np.nan)
 
 
 def main():
@@ -31,14 +38,18 @@ def main():
     elif len(files) > 5:
         files = [files[i] for i in np.linspace(0, len(files) - 1, 5).round().astype(int)]
     data = [sp.read_snapshot(path) for path in files]
-    rows = 3 if all("peak_pressure" in c for _, c, _ in data) else 2
+    peak_row = all("peak_pressure" in c for _, c, _ in data)
+    porous_row = all("distension" in c for _, c, _ in data)
+    rows = 2 + peak_row + porous_row
     fig, axes = plt.subplots(rows, len(files), figsize=(3.2 * len(files), 3.1 * rows),
                              squeeze=False, sharex=True, sharey=True)
     # One speed (and peak-pressure) colour range for all panels, like the shared axes.
     vmax = max([np.sqrt(c["vx"] ** 2 + c["vy"] ** 2 + c["vz"] ** 2).max(initial=0)
                 for _, c, _ in data] + [1e-30])
-    pmax = max([np.percentile(c["peak_pressure"], 99) / 1e9 for _, c, _ in data if rows == 3]
+    pmax = max([np.percentile(c["peak_pressure"], 99) / 1e9 for _, c, _ in data if peak_row]
                + [1e-30])
+    # One porosity range: 0 to the largest initial porosity (compaction only lowers it).
+    phimax = max([porosity(c).max(initial=0) for _, c, _ in data if porous_row] + [1e-30])
     for k, (t, c, axis) in enumerate(data):
         normal = "xyz"[axis] if axis >= 0 else "z"
         plane = [a_ for a_ in "xyz" if a_ != normal]
@@ -61,11 +72,20 @@ def main():
         axes[1][k].set_title("|v| (m/s)", fontsize=9)
         fig.colorbar(im, ax=axes[0][k], shrink=0.8)
         fig.colorbar(im2, ax=axes[1][k], shrink=0.8)
-        if rows == 3:
+        if peak_row:
             peak = c["peak_pressure"][layer] / 1e9
             im3 = axes[2][k].scatter(u, v, c=peak, s=s, cmap="magma", vmin=0, vmax=pmax)
             axes[2][k].set_title("peak pressure (GPa)", fontsize=9)
             fig.colorbar(im3, ax=axes[2][k], shrink=0.8)
+        if porous_row:
+            ax = axes[rows - 1][k]
+            phi = porosity(c)[layer]
+            dense = np.isnan(phi)
+            ax.scatter(u[dense], v[dense], c="0.75", s=s, label="dense material")
+            im4 = ax.scatter(u[~dense], v[~dense], c=phi[~dense], s=s, cmap="cividis_r", vmin=0,
+                             vmax=phimax)
+            ax.set_title("porosity 1 - 1/alpha", fontsize=9)
+            fig.colorbar(im4, ax=ax, shrink=0.8)
         for r in range(rows):
             axes[r][k].set_aspect("equal")
             axes[r][k].set_xlabel(f"{plane[0]} (mm)")

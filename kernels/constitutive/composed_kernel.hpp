@@ -57,7 +57,9 @@ struct ConstitutiveColumns {
   double* heat = nullptr;
   // damage, eps_min, eps_max, n_flaws, weibull_m, n_active
   double* damage_state[6] = {};
-  double* distension = nullptr;  // alpha = rho_s / rho (porosity on)
+  double* distension = nullptr;       // alpha = rho_s / rho (porosity on)
+  double* porosity = nullptr;         // 1 - 1/alpha (porosity on)
+  double* compaction_heat = nullptr;  // booked compaction work, J/kg (porosity on)
   // r-z (issue 31): the points' radius x when each point is a ring about z, else null.
   const double* ring_radius = nullptr;
 };
@@ -217,6 +219,7 @@ class ComposedKernel {
   struct Point {
     T rho, rho_old, tr, e_old, e_trial, w_old, d_old;
     T alpha = T(1.0);  // distension (porosity stage; 1 without porosity)
+    T a_old = T(1.0);  // the distension at the step's start
     T d_c = T(0.0);    // compaction damage D_c(alpha) (kernels/porosity; 0 when off)
     T de[6], w[3], sig_old[6];
     T s[6];                                                      // undamaged deviator
@@ -250,6 +253,7 @@ class ComposedKernel {
 
     const T dmg = damage_stage(c, p, pt, ps, cp, sp);
     stress_stage(c, p, pt, pres, av.q, dmg);
+    if constexpr (Porosity::kEnabled) book_compaction(c, p, pt);
 
     // 9. Eq. 13 with the shear stiffness of the next step's stress update, which every coupling
     // takes at D^{n+1}, for the time step (Eq. 34): D never decreases, so that step's stress is
@@ -313,12 +317,29 @@ class ComposedKernel {
       pt.alpha = porosity_.compact(eos_, pt.rho, pt.rho_old, pt.e_trial, a_old);
       simd::store_col(c.distension + p, pt.alpha);
       if constexpr (Damage::kEnabled) pt.d_c = porosity_.compaction_damage(pt.alpha);
+      pt.a_old = a_old;
+      simd::store_col(c.porosity + p, 1.0 - 1.0 / pt.alpha);
       return porosity_.bulk(eos_, pt.rho, pt.e_trial, pt.alpha);
     } else {
       (void)c;
       (void)p;
       return eos_.evaluate(pt.rho, pt.e_trial);
     }
+  }
+
+  // The compaction work of the step (kernels/porosity/porosity.hpp, compaction_work) with the
+  // mean stress at the step's two ends, artificial viscosity and damage included: the stress
+  // whose work the energy update (step 2 and the corrector) puts into E, so the booked heat is
+  // the part of that work done on the pores. (Already inside E: booked, not added.)
+  template <class T>
+  void book_compaction(const ConstitutiveColumns& c, std::size_t p, const Point<T>& pt) const {
+    using simd::load_col;
+    const T p_old = -(pt.sig_old[0] + pt.sig_old[1] + pt.sig_old[2]) * (1.0 / 3.0);
+    const T p_new = -(load_col<T>(c.stress[0] + p) + load_col<T>(c.stress[1] + p) +
+                      load_col<T>(c.stress[2] + p)) *
+                    (1.0 / 3.0);
+    const T w = porosity_.compaction_work(p_old, p_new, pt.a_old, pt.alpha, pt.rho_old, pt.rho);
+    simd::store_col(c.compaction_heat + p, load_col<T>(c.compaction_heat + p) + w);
   }
 
   // 4. Plastic return of the strength model (App. B).
@@ -481,6 +502,7 @@ class ComposedKernel {
   eos::EosPoint<double> initial_eos(const ConstitutiveColumns& c, std::size_t p) const {
     if constexpr (Porosity::kEnabled) {
       if (!(c.distension[p] >= 1.0)) c.distension[p] = porosity_.alpha0();
+      c.porosity[p] = 1.0 - 1.0 / c.distension[p];
       return porosity_.bulk(eos_, c.rho[p], c.energy[p], c.distension[p]);
     } else {
       return eos_.evaluate(c.rho[p], c.energy[p]);

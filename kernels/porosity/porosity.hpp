@@ -60,7 +60,7 @@ enum class Model { eps_alpha, p_alpha };
 class Porous {
  public:
   static constexpr bool kEnabled = true;
-  static constexpr FieldSet kFields{Field::distension};
+  static constexpr FieldSet kFields{Field::distension, Field::porosity, Field::compaction_heat};
   // Bisection steps of the P-alpha solve: the bracket [1, alpha_old] shrinks to
   // (alpha0 - 1) 2^-40, below 1e-12 for any alpha0 < 100.
   static constexpr int kBisections = 40;
@@ -109,6 +109,25 @@ class Porous {
     return d * d * d;
   }
   static constexpr double kDamageDelta = 0.01;
+
+  // The compaction work per unit mass of one step (J/kg, > 0 when pores close), booked in the
+  // compaction_heat column. The bulk specific volume is v = alpha v_s (alpha = rho_s / rho, the
+  // definition of distension: Carroll & Holt 1972; W06 Sec. 2), so the bulk p dV work splits as
+  //   -p dv = -p alpha dv_s  -  p v_s d alpha
+  // into the matrix's work and the work of closing the pores, -p v_s d alpha = -p d alpha /
+  // (alpha rho): the compaction work (the "p dV" of the pore volume v_s (alpha - 1)). Over a
+  // step, trapezoidal in p and in v_s = 1 / (alpha rho) between the step's ends, as the
+  // kernel's energy update integrates the bulk work; p is the mean stress the energy update
+  // integrates (the composed kernel passes it with the artificial viscosity: in a shock the
+  // pores close inside the viscous ramp, and the Rayleigh-line work done there is the
+  // compaction heating of the shock). In eps-alpha's reversible elastic regime alpha may grow
+  // back and the work is returned (negative).
+  template <class T>
+  T compaction_work(const T& p_old, const T& p_new, const T& a_old, const T& a_new,
+                    const T& rho_old, const T& rho_new) const {
+    const T vs = 0.5 * (1.0 / (a_old * rho_old) + 1.0 / (a_new * rho_new));
+    return 0.5 * (p_old + p_new) * (a_old - a_new) * vs;
+  }
 
   Model model() const { return model_; }
   double alpha0() const { return alpha0_; }

@@ -362,7 +362,7 @@ class Runner {
       r.momentum = io::total_momentum(sim_.particles());
       r.failure_ratio = failure_ratio();
     }
-    if (porous()) r.mean_porosity = mean_porosity();
+    if (porous()) porosity_columns(r);
     if (beta_) {
       beta_->sample(
           r, sim_.time(), sim_.particles(),
@@ -372,25 +372,26 @@ class Runner {
     if (root_) timeseries_->write(r);
   }
 
-  // The time series' mean porosity (issue 29): exact sums, added over the ranks as the momentum
-  // above, so the same bits on any rank count.
-  double mean_porosity() {
+  // The time series' mean porosity and compaction work (issue 29): exact sums, added over the
+  // ranks as the momentum above, so the same bits on any rank count.
+  void porosity_columns(io::TimeSeriesRow& r) {
     auto phi = io::porosity_sums(sim_.particles());
     if (dist_) {
       constexpr int L = parallel::ExactSum::kLimbs;
-      std::vector<std::int64_t> limbs(2 * L);
-      for (std::size_t k = 0; k < 2; ++k) {
+      std::vector<std::int64_t> limbs(3 * L);
+      for (std::size_t k = 0; k < 3; ++k) {
         phi[k].normalise();
         std::copy(phi[k].limbs().begin(), phi[k].limbs().end(),
                   limbs.begin() + static_cast<long>(k) * L);
       }
       comm_.sum(limbs);
-      for (std::size_t k = 0; k < 2; ++k) {
+      for (std::size_t k = 0; k < 3; ++k) {
         std::copy(limbs.begin() + static_cast<long>(k) * L,
                   limbs.begin() + static_cast<long>(k + 1) * L, phi[k].limbs().begin());
       }
     }
-    return io::mean_porosity(phi);
+    r.mean_porosity = io::mean_porosity(phi);
+    r.compaction_work = phi[2].value();
   }
 
   // A porous material is in the scene (its distension column, issue 29): the time series then

@@ -28,6 +28,7 @@ std::string_view unit_of(Field f) {
       return "kg/m^3";
     case Field::energy:
     case Field::heat:
+    case Field::compaction_heat:
       return "J/kg";
     case Field::sxx:
     case Field::syy:

@@ -35,7 +35,7 @@ constexpr std::string_view kBetaHeader =
     "beta_launch,";
 
 std::string timeseries_header(bool porous, bool beta) {
-  return std::string(kHeader) + (porous ? "mean_porosity," : "") +
+  return std::string(kHeader) + (porous ? "mean_porosity,compaction_J," : "") +
          (beta ? std::string(kBetaHeader) : std::string()) + "wall_s";
 }
 
@@ -151,7 +151,7 @@ void TimeSeriesWriter::write(const TimeSeriesRow& r) {
       r.step, r.time, r.dt, e.kinetic, e.internal, e.potential, e.total(), e.boundary_work,
       e.outflow, e.error(), r.momentum.x(), r.momentum.y(), r.momentum.z(), r.failure_ratio,
       e.unresolved_kinetic, e.unresolved_fraction(), e.gravitational);
-  if (porous_) out_ << fmt::format("{:.17g},", r.mean_porosity);
+  if (porous_) out_ << fmt::format("{:.17g},{:.17g},", r.mean_porosity, r.compaction_work);
   if (beta_) {
     out_ << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},", r.ejecta_mass,
                         r.ejecta_momentum, r.impactor_momentum, r.beta, r.beta_target,
@@ -160,20 +160,24 @@ void TimeSeriesWriter::write(const TimeSeriesRow& r) {
   out_ << fmt::format("{:.3f}\n", r.wall);
 }
 
-std::array<parallel::ExactSum, 2> porosity_sums(const ParticleStore& store) {
-  std::array<parallel::ExactSum, 2> s;
+std::array<parallel::ExactSum, 3> porosity_sums(const ParticleStore& store) {
+  std::array<parallel::ExactSum, 3> s;
   if (!store.has(Field::distension)) return s;
   const auto m = store.col(Field::mass);
   const auto alpha = store.col(Field::distension);
+  // a store without the column (made by hand, not by a porous material): no compaction work
+  const double* q =
+      store.has(Field::compaction_heat) ? store.col(Field::compaction_heat).data() : nullptr;
   for (std::size_t i = 0; i < store.size(); ++i) {
     if (!(alpha[i] >= 1.0)) continue;  // a point of a dense material
     s[0].add(m[i] * (1.0 - 1.0 / alpha[i]));
     s[1].add(m[i]);
+    if (q != nullptr) s[2].add(m[i] * q[i]);
   }
   return s;
 }
 
-double mean_porosity(std::array<parallel::ExactSum, 2>& sums) {
+double mean_porosity(std::array<parallel::ExactSum, 3>& sums) {
   const double mass = sums[1].value();
   return mass > 0.0 ? sums[0].value() / mass : 0.0;
 }

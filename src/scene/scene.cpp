@@ -224,8 +224,8 @@ static void read_output_columns(Reader& r, Scene& scene) {
   const toml::node* c = r.table().get("columns");
   r.note_default("columns",
                  "`\"default\"` (positions, velocities, mass, volume0, rho, energy, pressure, "
-                 "peak_pressure, damage, plastic_strain, stress, id, body; distension when a "
-                 "body is porous)");
+                 "peak_pressure, damage, plastic_strain, stress, id, body; distension, porosity "
+                 "and compaction_heat when a body is porous)");
   if (c == nullptr || (c->is_string() && c->as_string()->get() == "default")) {
     o.columns = kDefaultColumns;
     // A porous body's compaction state (issue 29): the distension alpha = rho_s / rho, from which
@@ -233,6 +233,8 @@ static void read_output_columns(Reader& r, Scene& scene) {
     if (std::any_of(scene.bodies.begin(), scene.bodies.end(),
                     [](const BodySpec& b) { return !b.material.porosity.empty(); })) {
       o.columns.emplace_back("distension");
+      o.columns.emplace_back("porosity");         // 1 - 1/alpha
+      o.columns.emplace_back("compaction_heat");  // the compaction work booked, J/kg
     }
     if (c == nullptr) r.table().insert("columns", "default");
   } else if (c->is_string() && c->as_string()->get() == "all") {

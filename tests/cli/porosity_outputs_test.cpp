@@ -1,8 +1,9 @@
 // The outputs of a porous scene (issue 29) as a user gets them from `shatter run`: the default
-// snapshot columns gain `distension` and the time series `mean_porosity` when a body's material
-// is porous, and neither appears for a dense scene; a resumed porous run continues the time
-// series (its header has the extra column) row for row. On tests/fuzz/tiny.toml (~0.5 s a run),
-// its target made porous basalt (eps-alpha, alpha0 = 1.25: porosity 0.2) by --set.
+// snapshot columns gain `distension`, `porosity` and `compaction_heat`, and the time series
+// `mean_porosity` and `compaction_J`, when a body's material is porous, and neither appears for a
+// dense scene; a resumed porous run continues the time series (its header has the extra column) row
+// for row. On tests/fuzz/tiny.toml (~0.5 s a run), its target made porous basalt (eps-alpha, alpha0
+// = 1.25: porosity 0.2) by --set.
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -66,6 +67,32 @@ class PorosityOutputs : public test::TempDirTest {
     return found;
   }
 
+  // A 1-column real dataset of a snapshot's particles.
+  static std::vector<double> column(const fs::path& snapshot, const char* name) {
+    const hid_t f = H5Fopen(snapshot.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t d = H5Dopen2(f, (std::string("/particles/") + name).c_str(), H5P_DEFAULT);
+    const hid_t sp = H5Dget_space(d);
+    std::vector<double> v(static_cast<std::size_t>(H5Sget_simple_extent_npoints(sp)));
+    EXPECT_GE(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0) << name;
+    H5Sclose(sp);
+    H5Dclose(d);
+    H5Fclose(f);
+    return v;
+  }
+
+  static fs::path last_snapshot(const fs::path& out) {
+    fs::path last;
+    for (const auto& e : fs::directory_iterator(out / "snapshots")) {
+      const auto n = e.path().filename().string();
+      if (n.rfind("snapshot_", 0) == 0 && e.path().extension() == ".h5" &&
+          (last.empty() || n > last.filename().string())) {
+        last = e.path();
+      }
+    }
+    EXPECT_FALSE(last.empty()) << "no snapshot in " << out;
+    return last;
+  }
+
   static fs::path first_snapshot(const fs::path& out) {
     for (const auto& e : fs::directory_iterator(out / "snapshots")) {
       if (e.path().filename().string().rfind("snapshot_", 0) == 0 &&
@@ -85,17 +112,45 @@ TEST_F(PorosityOutputs, PorousSceneWritesDistensionAndMeanPorosity) {
   ASSERT_GE(r.size(), 3u);
   const auto& h = r[0];
   ASSERT_GE(h.size(), 2u);
-  EXPECT_EQ(h[h.size() - 2], "mean_porosity");
+  EXPECT_EQ(h[h.size() - 3], "mean_porosity");
+  EXPECT_EQ(h[h.size() - 2], "compaction_J");
   EXPECT_EQ(h.back(), "wall_s");
   for (const auto& row : r) ASSERT_EQ(row.size(), h.size());
   // Only the target is porous: its mean at t = 0 is 1 - 1/1.25 = 0.2 (rounding of the sums
   // only), and the impact compacts it (never below 0, never above 0.2: compaction is
   // irreversible and the eps-alpha curve starts at alpha0).
-  const double phi0 = std::stod(r[1][h.size() - 2]);
-  const double phi1 = std::stod(r.back()[h.size() - 2]);
+  const double phi0 = std::stod(r[1][h.size() - 3]);
+  const double phi1 = std::stod(r.back()[h.size() - 3]);
   EXPECT_NEAR(phi0, 0.2, 1e-12);
   EXPECT_LT(phi1, phi0);
   EXPECT_GT(phi1, 0.0);
+
+  // The snapshot columns porosity (1 - 1/alpha) and compaction_heat (J/kg) with the distension;
+  // the time series' compaction_J is sum m q_c of the porous points: at t = 0 nothing, at the
+  // end what the last snapshot (same time) holds, and part of internal_J.
+  const fs::path last = last_snapshot(out);
+  EXPECT_TRUE(has_column(last, "porosity"));
+  EXPECT_TRUE(has_column(last, "compaction_heat"));
+  const auto alpha = column(last, "distension"), phi = column(last, "porosity");
+  const auto q = column(last, "compaction_heat"), m = column(last, "mass");
+  ASSERT_EQ(alpha.size(), phi.size());
+  double sum = 0.0;
+  int compacted = 0;
+  for (std::size_t i = 0; i < alpha.size(); ++i) {
+    if (!(alpha[i] >= 1.0)) continue;  // the dense impactor
+    EXPECT_NEAR(phi[i], 1.0 - 1.0 / alpha[i], 1e-15) << i;
+    EXPECT_GE(q[i], 0.0) << i;  // eps-alpha with chi = 1: no reversible regime, work >= 0
+    compacted += alpha[i] < 1.2;
+    sum += m[i] * q[i];
+  }
+  EXPECT_GT(compacted, 0);
+  EXPECT_EQ(std::stod(r[1][h.size() - 2]), 0.0);
+  const double qj = std::stod(r.back()[h.size() - 2]);
+  EXPECT_GT(qj, 0.0);
+  EXPECT_NEAR(qj, sum, 1e-12 * qj);  // the same sum, summed in another order
+  std::size_t internal = 0;
+  while (h[internal] != "internal_J") ++internal;
+  EXPECT_LT(qj, std::stod(r.back()[internal]));
 }
 
 TEST_F(PorosityOutputs, DenseSceneHasNeither) {
@@ -104,6 +159,8 @@ TEST_F(PorosityOutputs, DenseSceneHasNeither) {
   const auto r = rows(out);
   ASSERT_GE(r.size(), 2u);
   for (const auto& c : r[0]) EXPECT_NE(c, "mean_porosity");
+  for (const auto& c : r[0]) EXPECT_NE(c, "compaction_J");
+  EXPECT_FALSE(has_column(first_snapshot(out), "porosity"));
   EXPECT_EQ(r[0].back(), "wall_s");
 }
 

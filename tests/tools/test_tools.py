@@ -62,6 +62,29 @@ def test_plot_tool_draws_a_tiny_run(tool, tiny_run, tmp_path):
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
 
 
+def png_height(path):
+    with open(path, "rb") as f:
+        head = f.read(24)
+    assert head[:8] == b"\x89PNG\r\n\x1a\n"
+    return int.from_bytes(head[20:24], "big")  # IHDR: width, then height
+
+
+def test_cross_section_has_a_porosity_panel_for_a_porous_run(tiny_run, tmp_path):
+    # The tiny scene with its target made porous (issue 29): the snapshots carry the distension,
+    # and the figure gains one row of panels (the porosity) over the dense run's.
+    binary = os.environ.get("SHATTER_BINARY", os.path.join(ROOT, "build", "release", "shatter"))
+    out = tmp_path / "porous"
+    subprocess.run([binary, "run", TINY, "--out", str(out), "--threads", "1", "--quiet", "--set",
+                    'body.target.material="porous_basalt"'], check=True, timeout=120)
+    dense_png, porous_png = tmp_path / "dense.png", tmp_path / "porous.png"
+    tool = os.path.join(TOOLS, "plot_cross_section.py")
+    for run_dir, png in ((tiny_run, dense_png), (out, porous_png)):
+        r = run([PYTHON, tool, str(run_dir), "--out", str(png)])
+        assert r.returncode == 0, r.stderr
+    # rows of 3.1 inches at 120 dpi: one more row is 372 pixels more
+    assert abs(png_height(porous_png) - png_height(dense_png) - 3.1 * 120) <= 1
+
+
 def test_ensemble_stats_summarises_a_table():
     table = "| run | a |\n|---|---|\n| 1 | 1.0 |\n| 2 | 3.0 |\n"
     r = run([PYTHON, os.path.join(TOOLS, "ensemble_stats.py")], input=table)

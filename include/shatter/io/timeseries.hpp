@@ -28,6 +28,10 @@ struct TimeSeriesRow {
   // Mass-weighted mean porosity 1 - 1/alpha of the porous points (issue 29): written only by a
   // writer made with porous = true (a scene with a porous material), as `mean_porosity`.
   double mean_porosity = 0.0;
+  // The compaction work of the porous points, sum m q_c over the compaction_heat column (J;
+  // issue 29): the part of internal_J spent closing pores. Written with mean_porosity, as
+  // `compaction_J`.
+  double compaction_work = 0.0;
   // The momentum enhancement (issue 32, include/shatter/fracture/beta.hpp): written only by a
   // writer made with beta = true (a scene with a [beta] table), as ejecta_mass_kg,
   // ejecta_momentum_kg_m_per_s, impactor_momentum_kg_m_per_s, beta, beta_target, beta_launch.
@@ -40,8 +44,9 @@ struct TimeSeriesRow {
   double wall = 0.0;         // s since the run (or resume) started
 };
 
-// The CSV header line (without newline). With porous = true it has `mean_porosity` before
-// `wall_s`; with beta = true the six beta columns (TimeSeriesRow) come before `wall_s` too.
+// The CSV header line (without newline). With porous = true it has `mean_porosity` and
+// `compaction_J` before `wall_s`; with beta = true the six beta columns (TimeSeriesRow) come before
+// `wall_s` too.
 std::string timeseries_header(bool porous = false, bool beta = false);
 
 // How a resumed run takes over the time series of the run it continues.
@@ -94,14 +99,15 @@ class TimeSeriesWriter {
   std::string note_;
 };
 
-// The porous points' sum m (1 - 1/alpha) and their mass sum m, exact (as momentum_sums): the
-// points with a distension alpha >= 1, i.e. those of porous materials (the kernel sets alpha0 at
-// initialise; the column is zero-filled for every other point). Their ratio is the row's
-// mean_porosity; summed over the ranks first when distributed.
-std::array<parallel::ExactSum, 2> porosity_sums(const ParticleStore& store);
+// The porous points' sum m (1 - 1/alpha), their mass sum m and their compaction work sum m q_c
+// (compaction_heat), exact (as momentum_sums): the points with a distension alpha >= 1, i.e.
+// those of porous materials (the kernel sets alpha0 at initialise; the column is zero-filled for
+// every other point). The ratio of the first two is the row's mean_porosity, the third its
+// compaction_J; summed over the ranks first when distributed.
+std::array<parallel::ExactSum, 3> porosity_sums(const ParticleStore& store);
 // The ratio of porosity_sums, 0 without porous points.
 double mean_porosity(const ParticleStore& store);
-double mean_porosity(std::array<parallel::ExactSum, 2>& sums);
+double mean_porosity(std::array<parallel::ExactSum, 3>& sums);
 
 // Sum of m v over all particles (kg m/s).
 // Sum of m v, exact (parallel::ExactSum): the same bits in any particle order, so a gathered

@@ -29,7 +29,7 @@ std::vector<std::string> lines(const std::filesystem::path& p) {
 TEST(TimeSeriesPorosity, HeaderHasMeanPorosityBeforeWallOnlyWhenPorous) {
   const std::string dense = timeseries_header(false), porous = timeseries_header(true);
   EXPECT_EQ(dense.find("mean_porosity"), std::string::npos);
-  EXPECT_EQ(porous, dense.substr(0, dense.size() - 6) + "mean_porosity,wall_s");
+  EXPECT_EQ(porous, dense.substr(0, dense.size() - 6) + "mean_porosity,compaction_J,wall_s");
 }
 
 TEST(TimeSeriesPorosity, RowsCarryTheValueInItsColumn) {
@@ -39,13 +39,14 @@ TEST(TimeSeriesPorosity, RowsCarryTheValueInItsColumn) {
     TimeSeriesRow r;
     r.step = 3;
     r.mean_porosity = 0.1875;
+    r.compaction_work = 2.5;
     r.wall = 1.5;
     w.write(r);
   }
   const auto l = lines(dir / "ts.csv");
   ASSERT_EQ(l.size(), 2u);
   EXPECT_EQ(l[0], timeseries_header(true));
-  EXPECT_NE(l[1].find(",0.1875,1.500"), std::string::npos) << l[1];
+  EXPECT_NE(l[1].find(",0.1875,2.5,1.500"), std::string::npos) << l[1];
   EXPECT_EQ(std::count(l[1].begin(), l[1].end(), ','), std::count(l[0].begin(), l[0].end(), ','));
 }
 
@@ -66,6 +67,22 @@ TEST(TimeSeriesPorosity, MeanIsMassWeightedOverThePorousPointsOnly) {
   EXPECT_NEAR(mean_porosity(s), 0.15, 1e-16);
   // no distension column: 0
   EXPECT_EQ(mean_porosity(sample_store(2, 2)), 0.0);
+}
+
+TEST(TimeSeriesPorosity, CompactionWorkSumsMassTimesCompactionHeatOfThePorousPoints) {
+  ParticleStore s = sample_store(2, 2);
+  s.require(Field::distension);
+  s.require(Field::compaction_heat);
+  const double m[] = {1.0, 3.0, 100.0, 100.0};
+  const double a[] = {2.0, 1.25, 0.0, 0.0};
+  const double q[] = {1000.0, 250.0, 7.0, 7.0};  // the dense points' values are not summed
+  for (std::size_t p = 0; p < 4; ++p) {
+    s.col(Field::mass)[p] = m[p];
+    s.col(Field::distension)[p] = a[p];
+    s.col(Field::compaction_heat)[p] = q[p];
+  }
+  auto sums = porosity_sums(s);
+  EXPECT_EQ(sums[2].value(), 1750.0);  // 1 * 1000 + 3 * 250, exact
 }
 
 TEST(TimeSeriesPorosity, ResumeRefusesAFileOfTheOtherLayout) {
