@@ -54,12 +54,13 @@ def profile(r, z, h, spacing, z_bottom, r_max):
 
 def depth_and_diameter(tops, h):
     depth = -tops[0]
+    if not depth > 0.0:
+        return depth, np.nan  # no cavity yet (the projectile still above the surface)
     centres = (np.arange(tops.size) + 0.5) * h
     for b in range(1, tops.size):
-        if np.isfinite(tops[b]) and tops[b] >= 0.0 and np.isfinite(tops[b - 1]):
-            z0, z1 = tops[b - 1], tops[b]
-            f = 0.0 if z1 == z0 else (0.0 - z0) / (z1 - z0)
-            return depth, 2.0 * (centres[b - 1] + f * h)
+        z0, z1 = tops[b - 1], tops[b]
+        if np.isfinite(z0) and np.isfinite(z1) and z0 < 0.0 <= z1:
+            return depth, 2.0 * (centres[b - 1] + (0.0 - z0) / (z1 - z0) * h)
     return depth, np.nan
 
 

@@ -37,10 +37,10 @@ for label, run in runs:
     rows, a = crater.measure(run)
     cpu = cpu_seconds(run)
     ax = axes[0][materials.index(material)]
-    t = [r[1] for r in rows if r[1] > 0.5]
-    depth = [r[2] / a for r in rows if r[1] > 0.5]
-    dia = [r[3] / a for r in rows if r[1] > 0.5]
-    (line,) = ax.plot(t, depth, "o-", ms=3, label=f"depth, {cppr} CPPR ({rows[-1][4]} rings, {cpu:.0f} CPU s)")
+    t = [r[1] for r in rows if r[1] >= 2.0]
+    depth = [r[2] / a for r in rows if r[1] >= 2.0]
+    dia = [r[3] / a for r in rows if r[1] >= 2.0]
+    (line,) = ax.plot(t, depth, "o-", ms=3, label=f"depth, {cppr} CPPR ({rows[0][4]} rings, {cpu:.0f} CPU s)")
     ax.plot(t, dia, "s--", ms=3, color=line.get_color(), label=f"diameter, {cppr} CPPR")
     for r in rows:
         lines.append(f"{material},{cppr},{r[1]:.3f},{r[2] / a:.4f},{r[3] / a:.4f},{r[4]},{cpu:.1f}")
