@@ -40,7 +40,8 @@ for label, run in runs:
     t = [r[1] for r in rows if r[1] >= 2.0]
     depth = [r[2] / a for r in rows if r[1] >= 2.0]
     dia = [r[3] / a for r in rows if r[1] >= 2.0]
-    (line,) = ax.plot(t, depth, "o-", ms=3, label=f"depth, {cppr} CPPR ({rows[0][4]} rings, {cpu:.0f} CPU s)")
+    text = f"depth, {cppr} CPPR ({rows[0][4]} rings, {cpu:.0f} CPU s)"
+    (line,) = ax.plot(t, depth, "o-", ms=3, label=text)
     ax.plot(t, dia, "s--", ms=3, color=line.get_color(), label=f"diameter, {cppr} CPPR")
     for r in rows:
         lines.append(f"{material},{cppr},{r[1]:.3f},{r[2] / a:.4f},{r[3] / a:.4f},{r[4]},{cpu:.1f}")

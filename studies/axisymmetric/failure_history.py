@@ -35,7 +35,8 @@ def largest(run, half_mass):
     rows = [l for l in open(run + "/fragments.csv") if not l.startswith("#")]
     head = rows[0].strip().split(",")
     first = rows[1].strip().split(",")
-    col = head.index("mass_body_target_kg") if "mass_body_target_kg" in head else head.index("mass_kg")
+    name = "mass_body_target_kg" if "mass_body_target_kg" in head else "mass_kg"
+    col = head.index(name)
     return float(first[col]) / half_mass, int(first[head.index("particles")])
 
 
