@@ -25,19 +25,24 @@ def history(run):
             target = f["particles/body"][()] == names.index("target")
             m = f["particles/mass"][()][target]
             d = f["particles/damage"][()][target]
-            out.append((float(f.attrs["time"]), m[d >= 0.9].sum() / m.sum(), m.sum()))
+            # A 3-D half model (symmetry_axis > 0, points off y = 0) holds half the target; an
+            # r-z snapshot (axis face x, every point on y = 0) holds all of it in its rings.
+            rz = bool((f["particles/position"][()][:, 1] == 0.0).all())
+            half = int(f.attrs["symmetry_axis"]) > 0 and not rz
+            whole = m.sum() * (2.0 if half else 1.0)
+            out.append((float(f.attrs["time"]), m[d >= 0.9].sum() / m.sum(), whole))
     return out
 
 
-def largest(run, half_mass):
-    """Largest fragment's mass over the whole target's (3-D half model: the mirrored body, so the
-    target is twice the half's)."""
+def largest(run, target_mass):
+    """Largest fragment's mass (of the mirrored body for a 3-D half model) over the whole
+    target's."""
     rows = [l for l in open(run + "/fragments.csv") if not l.startswith("#")]
     head = rows[0].strip().split(",")
     first = rows[1].strip().split(",")
     name = "mass_body_target_kg" if "mass_body_target_kg" in head else "mass_kg"
     col = head.index(name)
-    return float(first[col]) / half_mass, int(first[head.index("particles")])
+    return float(first[col]) / target_mass, int(first[head.index("particles")])
 
 
 out_png, out_csv = sys.argv[1], sys.argv[2]
@@ -46,7 +51,7 @@ plt.figure(figsize=(6, 4))
 for arg in sys.argv[3:]:
     label, run = arg.split("=", 1)
     h = history(run)
-    target_mass = h[0][2] * (2.0 if "3-D" in label else 1.0)
+    target_mass = h[0][2]
     big, npts = largest(run, target_mass)
     t = [x[0] * 1e6 for x in h]
     f = [x[1] for x in h]
