@@ -5,9 +5,9 @@ usage: crater.py RUN_DIR [RUN_DIR ...]   (prints CSV: run,time_s,t_aU,depth_m,di
 
 Definition (the transient crater as iSALE studies measure it, e.g. Prieur et al. 2017, JGR
 Planets 122, "The effect of target properties on transient crater scaling for simple craters";
-Wuennemann, Collins & Osinski 2008, EPSL 269): the cavity's depth below the pre-impact surface
-z = 0 on the axis, and its diameter at the pre-impact surface level, measured on the material's
-surface profile. The profile is the top of the material column of each radial bin (width one
+the definition as stated here, not re-checked against the paper): the cavity's depth below the
+pre-impact surface z = 0 on the axis, and its diameter at the pre-impact surface level, measured
+on the material's surface profile. The profile is the top of the material column of each radial bin (width one
 cell): the points of every body (projectile material lining the cavity counts as floor) are
 binned in z cells of one cell size, and the column is followed up from the half-space's bottom
 while at most one cell in a row is empty; its top is the highest point of the column plus half
