@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
@@ -12,6 +13,26 @@
 #include "shatter/io/snapshot.hpp"
 
 namespace shatter::cli {
+
+namespace {
+
+// An r-z snapshot (issue 31) has the axis as its symmetry face x = 0 and every point on the
+// plane y = 0; a 3-D half model's lattice never puts its points there (they sit half a spacing
+// off any plane), so this tells the two apart without a new snapshot attribute.
+bool rz_snapshot(const io::Snapshot& s, const std::filesystem::path& file) {
+  if (s.header.symmetry_axis != 0 || s.particles.size() == 0 || !s.particles.has(Field::y)) {
+    return false;
+  }
+  const auto y = s.particles.col(Field::y);
+  if (!std::all_of(y.begin(), y.end(), [](double v) { return v == 0.0; })) return false;
+  spdlog::info(
+      "{}: an r-z snapshot (axis x = 0, every point on y = 0): rings, searched in the "
+      "half-plane",
+      file.string());
+  return true;
+}
+
+}  // namespace
 
 int fragments_command(const std::filesystem::path& snapshot, const FragmentOptions& options) {
   io::Snapshot s;
@@ -57,6 +78,7 @@ int fragments_command(const std::filesystem::path& snapshot, const FragmentOptio
     }
   }
   spec.smoothing_factor = options.smoothing_factor.value_or(0.0);
+  spec.axisymmetric = rz_snapshot(s, snapshot);
   spec.static_strength = options.static_strength.value_or(0.0);
   std::filesystem::path prefix =
       options.prefix.value_or(snapshot.parent_path() / (snapshot.stem().string() + "_fragments"));

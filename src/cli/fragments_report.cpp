@@ -51,8 +51,11 @@ FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_
                                    const FragmentSearchSpec& spec,
                                    const std::filesystem::path& prefix,
                                    const FragmentReportInfo& info) {
-  // A fragment cut by the symmetry plane is one fragment: search the whole body.
-  ParticleStore full = symmetry_axis >= 0 ? io::mirrored(particles, symmetry_axis) : particles;
+  // A fragment cut by the symmetry plane is one fragment: search the whole body. In r-z the axis
+  // is not a mirror plane: the rings already are the whole body, searched in the half-plane.
+  const bool rz = spec.axisymmetric;
+  ParticleStore full =
+      symmetry_axis >= 0 && !rz ? io::mirrored(particles, symmetry_axis) : particles;
   full.require(IField::fragment);  // labels, for the composition and the particle ss file
   FragmentCatalogue cat = find_fragments(full, spec);
   if (!info.body_names.empty() && full.has(IField::body)) {
@@ -65,6 +68,20 @@ FragmentCatalogue report_fragments(const ParticleStore& particles, int symmetry_
   };
   write_fragments_csv(cat, with_ext(".csv"));
   write_fragments_hdf5(cat, with_ext(".h5"));
+  if (rz) {
+    // pkdgrav's spheres and BA99's point-mass binding energies cannot stand for rings: a ring off
+    // the axis is neither a sphere at its centre nor a point mass (bound_remnant* is written for
+    // 3-D points), so in r-z both are skipped rather than computed wrongly.
+    spdlog::info(
+        "r-z: {} fragments (bodies of revolution; {} off the axis are rings) of the model, dust "
+        "{:.3g} kg of {:.3g} kg; written to {}.csv/.h5 (no .ss hand-off and no bound remnant in "
+        "r-z: rings are not spheres or point masses)",
+        cat.fragments.size(),
+        std::count_if(cat.fragments.begin(), cat.fragments.end(),
+                      [](const Fragment& f) { return !f.touches_axis; }),
+        cat.dust_mass, cat.total_mass, prefix.string());
+    return cat;
+  }
   write_hand_off(cat, full, spec, with_ext, info);
   // BA99's bound remnant, the dust points as bodies of their own (a shattered body is dust)
   const BoundRemnant bound = bound_remnant_with_dust(cat, full, gravity::kNewtonG);

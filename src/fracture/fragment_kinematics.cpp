@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -9,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "fracture/cell_grid.hpp"
+#include "fracture/rings.hpp"
 #include "shatter/fracture/fragments.hpp"
 
 namespace shatter {
@@ -127,6 +129,51 @@ void sum_spin_and_shape(const Points& pts, const std::vector<std::int64_t>& labe
   }
 }
 
+// r-z (issue 31): the fragment is the body of revolution its rings sweep about z. By symmetry its
+// centre lies on the axis, its momentum is along z (a ring's radial momenta cancel round it) and,
+// v_theta being zero, it has no spin. The inertia about the centre is the revolved mass's: a ring
+// of mass m, radius r, height dz above the centre has J_zz = m r^2, J_xx = J_yy = m (r^2/2 + dz^2).
+// The equivalent ellipsoid adds each ring's cross-section as a square of side sqrt(A), as the 3-D
+// path adds each point's cube. touches_axis: a ring closer to the axis than one point spacing
+// (sqrt of the mean cross-section; the lattice's first ring sits half a spacing off the axis).
+void revolve(const Points& pts, const ParticleStore& store, const std::vector<std::int64_t>& labels,
+             std::vector<Fragment>& frags) {
+  const std::vector<double> area = fracture::ring_areas(store);
+  double total_area = 0.0;
+  for (const std::size_t p : pts.order) total_area += area[p];
+  const double spacing =
+      std::sqrt(total_area / static_cast<double>(std::max<std::size_t>(pts.order.size(), 1)));
+  std::vector<Eigen::Matrix3d> self_inertia(frags.size(), Eigen::Matrix3d::Zero());
+  for (auto& f : frags) {
+    f.centre = {0.0, 0.0, f.centre.z()};
+    f.momentum = {0.0, 0.0, f.momentum.z()};
+    f.velocity = {0.0, 0.0, f.velocity.z()};
+    f.angular_momentum.setZero();
+    f.omega.setZero();
+    f.inertia.setZero();
+    f.r_min = std::numeric_limits<double>::infinity();
+    f.r_max = 0.0;
+  }
+  for (const std::size_t p : pts.order) {
+    if (labels[p] < 0) continue;
+    const auto l = static_cast<std::size_t>(labels[p]);
+    Fragment& f = frags[l];
+    const double m = pts.mass[p], r = pts.x[p], dz = pts.z[p] - f.centre.z();
+    f.inertia += m * Eigen::Vector3d(0.5 * r * r + dz * dz, 0.5 * r * r + dz * dz, r * r)
+                         .asDiagonal()
+                         .toDenseMatrix();
+    self_inertia[l] += (m * area[p] / 6.0) * Eigen::Matrix3d::Identity();
+    f.r_min = std::min(f.r_min, r);
+    f.r_max = std::max(f.r_max, r);
+  }
+  for (std::size_t l = 0; l < frags.size(); ++l) {
+    Fragment& f = frags[l];
+    if (f.particles == 0) continue;
+    f.axes = ellipsoid_axes(f.inertia + self_inertia[l], f.mass);
+    f.touches_axis = f.r_min < spacing;
+  }
+}
+
 // The fragments into the catalogue, largest first (equal masses by the first particle in id
 // order, so ranks are canonical), and the labels renumbered to those ranks.
 void rank_fragments(const std::vector<Fragment>& frags, const std::vector<std::size_t>& first_seen,
@@ -151,8 +198,8 @@ void rank_fragments(const std::vector<Fragment>& frags, const std::vector<std::s
 
 }  // namespace
 
-FragmentCatalogue fragment_kinematics(const ParticleStore& store,
-                                      std::vector<std::int64_t>& labels) {
+FragmentCatalogue fragment_kinematics(const ParticleStore& store, std::vector<std::int64_t>& labels,
+                                      bool axisymmetric) {
   const std::size_t n = store.size();
   if (labels.size() != n) throw std::invalid_argument("fragment kinematics: label count mismatch");
   const Points pts(store);
@@ -164,6 +211,8 @@ FragmentCatalogue fragment_kinematics(const ParticleStore& store,
   FragmentCatalogue cat;
   sum_mass_and_momentum(pts, labels, frags, first_seen, cat);
   sum_spin_and_shape(pts, labels, frags);
+  if (axisymmetric) revolve(pts, store, labels, frags);
+  cat.axisymmetric = axisymmetric;
   rank_fragments(frags, first_seen, labels, cat);
   return cat;
 }

@@ -65,6 +65,17 @@ const std::vector<Column>& columns() {
   return cols;
 }
 
+// r-z catalogues only (issue 31): each fragment is a body of revolution; an off-axis one is a
+// ring or torus whose azimuthal break-up r-z cannot resolve.
+const std::vector<Column>& ring_columns() {
+  static const std::vector<Column> cols = {
+      {"touches_axis", "1", [](const Fragment& f) { return f.touches_axis ? 1.0 : 0.0; }},
+      {"r_min", "m", [](const Fragment& f) { return f.r_min; }},
+      {"r_max", "m", [](const Fragment& f) { return f.r_max; }},
+  };
+  return cols;
+}
+
 std::ofstream open_text(const std::filesystem::path& file) {
   std::ofstream out(file);
   if (!out) throw std::runtime_error("cannot write " + file.string());
@@ -143,6 +154,8 @@ void write_fragments_csv(const FragmentCatalogue& cat, const std::filesystem::pa
                      cat.dust_mass, cat.fragments.size());
   out << "id,particles";
   for (const auto& c : columns()) out << ',' << c.name << '_' << c.unit;
+  if (cat.axisymmetric)
+    for (const auto& c : ring_columns()) out << ',' << c.name << '_' << c.unit;
   const bool composed = !cat.body_names.empty();
   if (composed) out << ",matrix_density_kg/m^3";
   for (const auto& b : cat.body_names) out << ",mass_body_" << b << "_kg";
@@ -151,6 +164,8 @@ void write_fragments_csv(const FragmentCatalogue& cat, const std::filesystem::pa
   for (const auto& f : cat.fragments) {
     out << f.id << ',' << f.particles;
     for (const auto& c : columns()) out << ',' << fmt::format("{:.17g}", c.value(f));
+    if (cat.axisymmetric)
+      for (const auto& c : ring_columns()) out << ',' << fmt::format("{:.17g}", c.value(f));
     if (composed) out << ',' << fmt::format("{:.17g}", matrix_density(f));
     for (double m : f.mass_by_body) out << ',' << fmt::format("{:.17g}", m);
     for (double m : f.mass_by_material) out << ',' << fmt::format("{:.17g}", m);
@@ -179,6 +194,12 @@ void write_fragments_hdf5(const FragmentCatalogue& cat, const std::filesystem::p
   for (const auto& c : columns()) {
     for (std::size_t i = 0; i < values.size(); ++i) values[i] = c.value(cat.fragments[i]);
     write_dataset(group.id, c.name, H5T_NATIVE_DOUBLE, values, c.unit);
+  }
+  if (cat.axisymmetric) {
+    for (const auto& c : ring_columns()) {
+      for (std::size_t i = 0; i < values.size(); ++i) values[i] = c.value(cat.fragments[i]);
+      write_dataset(group.id, c.name, H5T_NATIVE_DOUBLE, values, c.unit);
+    }
   }
   // Composition: mass_body_NAME and mass_material_NAME datasets, kg.
   auto composition = [&](const std::vector<std::string>& names, const char* kind,

@@ -11,6 +11,7 @@
 
 #include "damage/principal.hpp"
 #include "fracture/cell_grid.hpp"
+#include "fracture/rings.hpp"
 #include "shatter/fracture/fragments.hpp"
 
 namespace shatter {
@@ -194,11 +195,12 @@ std::vector<std::uint8_t> failed_points(const ParticleStore& store,
 }
 
 // The points gathered in the grid's cell-sorted order.
+// `measure` is each point's volume0 (3-D) or its ring's cross-section (r-z), storage order.
 Cloud gather_cloud(const ParticleStore& store, const CellGrid& grid, double link,
-                   const std::vector<double>& smoothing, const std::vector<std::uint8_t>& failed) {
+                   const std::vector<double>& smoothing, const std::vector<std::uint8_t>& failed,
+                   std::span<const double> measure) {
   const std::size_t n = store.size();
   const auto xs = store.col(Field::x), ys = store.col(Field::y), zs = store.col(Field::z);
-  const auto vol0 = store.col(Field::volume0);
   const auto order = grid.order();
   Cloud cloud;
   cloud.grid = &grid;
@@ -214,7 +216,7 @@ Cloud gather_cloud(const ParticleStore& store, const CellGrid& grid, double link
     cloud.x[k] = xs[p];
     cloud.y[k] = ys[p];
     cloud.z[k] = zs[p];
-    cloud.vol[k] = vol0[p];
+    cloud.vol[k] = measure[p];
     if (!smoothing.empty()) cloud.h[k] = smoothing[p];
     cloud.failed[k] = failed[p];
   }
@@ -235,8 +237,9 @@ std::vector<std::int64_t> cluster(const Cloud& cloud, const CellGrid& grid,
   std::vector<std::int64_t> sorted_label(n, kNone);
   if (spec.method == "grid_density") {
     // Extendable points: unfailed points in cells whose unfailed material fills at least
-    // extendable_ratio of the cell (the paper's per-cell ratio in place of DBSCAN's count).
-    const double cell_volume = h * h * h;
+    // extendable_ratio of the cell (the paper's per-cell ratio in place of DBSCAN's count). In
+    // r-z the cells are squares of the half-plane and the points' measure their cross-sections.
+    const double cell_volume = spec.axisymmetric ? h * h : h * h * h;
     std::vector<std::uint8_t> extendable(n, 0);
     for (const auto& cell : grid.cells()) {
       double filled = 0.0;
@@ -271,12 +274,17 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
   if (!store.has(Field::volume0))
     throw std::logic_error("fragment search: the particle store has no volume0 column");
 
-  const auto vol0 = store.col(Field::volume0);
+  // r-z: the half-plane search on the rings' cross-sections (their spacing is sqrt(mean A)).
+  const std::vector<double> areas =
+      spec.axisymmetric ? fracture::ring_areas(store) : std::vector<double>{};
+  const std::span<const double> measure =
+      spec.axisymmetric ? std::span<const double>(areas) : store.col(Field::volume0);
   const auto canonical = fracture::canonical_order(
       store.has(IField::id) ? store.col(IField::id) : std::span<const std::int64_t>{}, n);
-  double total_volume = 0.0;
-  for (std::uint32_t p : canonical) total_volume += vol0[p];
-  const double spacing = std::cbrt(total_volume / static_cast<double>(n));
+  double total_measure = 0.0;
+  for (std::uint32_t p : canonical) total_measure += measure[p];
+  const double mean = total_measure / static_cast<double>(n);
+  const double spacing = spec.axisymmetric ? std::sqrt(mean) : std::cbrt(mean);
   double h = spec.cell_size > 0.0 ? spec.cell_size : 2.0 * spacing;
   const double link = spec.linking_length > 0.0 ? spec.linking_length : 1.5 * spacing;
   if (!(h > 0.0)) throw std::invalid_argument("fragment search: particle volumes are zero");
@@ -293,7 +301,8 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
   grid_origin(store, spacing, lo);
   const CellGrid grid(store.col(Field::x), store.col(Field::y), store.col(Field::z), canonical, lo,
                       h);
-  const Cloud cloud = gather_cloud(store, grid, link, smoothing, failed_points(store, spec));
+  const Cloud cloud =
+      gather_cloud(store, grid, link, smoothing, failed_points(store, spec), measure);
   const std::vector<std::int64_t> sorted_label = cluster(cloud, grid, spec, h);
   const auto order = grid.order();
   for (std::size_t k = 0; k < n; ++k) labels[order[k]] = sorted_label[k];
@@ -302,7 +311,7 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
 
 FragmentCatalogue find_fragments(ParticleStore& store, const FragmentSearchSpec& spec) {
   auto labels = label_fragments(store, spec);
-  FragmentCatalogue cat = fragment_kinematics(store, labels);
+  FragmentCatalogue cat = fragment_kinematics(store, labels, spec.axisymmetric);
   if (store.has(IField::fragment)) {
     auto out = store.col(IField::fragment);
     std::copy(labels.begin(), labels.end(), out.begin());

@@ -198,16 +198,10 @@ void read_output(Reader& root, Scene& scene) {
   r.note_range("progress_every", "", "s (wall clock)");
   if (o.timeseries_every < 1) r.fail("timeseries_every", "must be >= 1 (steps)");
   o.progress_every = r.non_negative("progress_every", r.number("progress_every", 5.0));
-  // r-z (issue 31): a point is a ring about the axis; the fragment search would link rings as
-  // 3-D points and report each ring as one lump on the axis plane. So in r-z the search is off
-  // by default and refused only when asked for: a scene that never names the key runs.
-  const bool rz = scene.solver.geometry == Geometry::axisymmetric;
-  o.fragments = r.boolean("fragments", !rz);
-  if (o.fragments && rz) {
-    r.fail("fragments",
-           "must be false with solver.geometry = \"axisymmetric\": the fragment search does "
-           "not know r-z rings yet (set output.fragments = false)");
-  }
+  // r-z (issue 31): a point is a ring about the axis; the search links rings in the half-plane
+  // and reports bodies of revolution (FragmentSearchSpec::axisymmetric).
+  o.fragments = r.boolean("fragments", true);
+  scene.fracture.search.axisymmetric = scene.solver.geometry == Geometry::axisymmetric;
   // The pkdgrav hand-off's radii (fragments.ss; docs/outputs.md, "N-body hand-off").
   scene.fracture.search.ss_radius =
       ss_radius_by_name(r.choice("ss_radius", "equal_volume", {"equal_volume", "packing_safe"}));

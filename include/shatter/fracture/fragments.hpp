@@ -43,6 +43,11 @@ struct FragmentSearchSpec {
   // The pkdgrav hand-off's radius (the run passes only this spec to the report, so the choice of
   // output.ss_radius travels with it).
   SsRadius ss_radius = SsRadius::equal_volume;
+  // r-z (solver.geometry = "axisymmetric", issue 31): each point is a ring about z in the
+  // half-plane y = 0, r = x. The search links the rings in the half-plane by their cross-sections
+  // (area A = (m / rho) / (2 pi r), spacing sqrt(mean A), cells of area h^2) and reports each
+  // fragment as the body of revolution its rings sweep (fragment_kinematics, below).
+  bool axisymmetric = false;
 };
 
 struct Fragment {
@@ -64,6 +69,12 @@ struct Fragment {
   // Volume of the solid matrix, sum of v_p / alpha_p over a porous body's points (distension
   // alpha = rho_s / rho, issue 29), m^3; equal to volume for dense points (add_composition).
   double matrix_volume = 0.0;
+  // r-z only (FragmentSearchSpec::axisymmetric): the radial extent of the fragment's rings, m, and
+  // whether it touches the axis (a ring within one point spacing of it). A fragment off the axis
+  // is a ring or torus: r-z cannot resolve its azimuthal break-up (no azimuthal structure).
+  bool touches_axis = false;
+  double r_min = 0.0;
+  double r_max = 0.0;
 };
 
 struct FragmentCatalogue {
@@ -72,6 +83,7 @@ struct FragmentCatalogue {
   double total_mass = 0.0;
   std::vector<std::string> body_names;      // composition columns; empty = no composition
   std::vector<std::string> material_names;  // distinct, in order of first use by a body
+  bool axisymmetric = false;                // r-z: fragments are bodies of revolution about z
 };
 
 // Finds fragments; if the store has IField::fragment it is filled (-1 = dust). The result does
@@ -83,9 +95,11 @@ std::vector<std::int64_t> label_fragments(const ParticleStore& store,
                                           const FragmentSearchSpec& spec);
 
 // Kinematics (MPM paper Eq. 20) of labelled particles; fragments sorted by mass, ids = rank.
-// On return labels hold the rank ids.
-FragmentCatalogue fragment_kinematics(const ParticleStore& store,
-                                      std::vector<std::int64_t>& labels);
+// On return labels hold the rank ids. With `axisymmetric` (r-z rings) each fragment is the body
+// of revolution of its rings: centre and velocity on the z axis (a ring's momentum is along z),
+// no spin (v_theta = 0), the inertia of the revolved mass, touches_axis and r_min / r_max.
+FragmentCatalogue fragment_kinematics(const ParticleStore& store, std::vector<std::int64_t>& labels,
+                                      bool axisymmetric = false);
 
 // Cumulative mass distribution: for each distinct fragment mass m (descending), the number of
 // fragments with mass >= m and their summed mass.

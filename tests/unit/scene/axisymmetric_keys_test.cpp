@@ -142,7 +142,6 @@ TEST(AxisymmetricScene, WhatTheRzModeDoesNotCarryIsRefusedWithKeyAndLine) {
        "material = \"basalt\"\n\n[body.target.damage]\nmodel = \"grady_kipp\"\nweibull_m = "
        "8.5\nweibull_k = 3.0e39\nexplicit_flaws = 1",
        "body.target.damage.explicit_flaws", "shape = \"sphere\""},
-      {"fragments = false", "fragments = true", "output.fragments", "fragments = true"},
   };
   for (const Case& c : cases) {
     const std::string text = rz_with(c.from, c.to);
@@ -152,8 +151,12 @@ TEST(AxisymmetricScene, WhatTheRzModeDoesNotCarryIsRefusedWithKeyAndLine) {
         1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
     expect_names(error_of(text), line, c.key);
   }
-  // Left out, the key defaults to false in r-z (the search is off), so the scene is valid.
-  EXPECT_FALSE(test::parse(rz_with("fragments = false", "")).output.fragments);
+  // The fragment search knows rings (issue 31): left out, the key defaults to true in r-z and
+  // the search is told the points are rings; asked for, it is accepted.
+  const auto defaulted = test::parse(rz_with("fragments = false", ""));
+  EXPECT_TRUE(defaulted.output.fragments);
+  EXPECT_TRUE(defaulted.fracture.search.axisymmetric);
+  EXPECT_TRUE(test::parse(rz_with("fragments = false", "fragments = true")).output.fragments);
   // SPH: the method, named (given with --set, so no line of the file).
   const std::string msg = error_of(kRz, {"solver.method=\"sph\""});
   EXPECT_NE(msg.find("solver.method"), std::string::npos) << msg;
