@@ -6,7 +6,7 @@ RUN/ejecta_launch.csv (each ejected point once, at its crossing of the count pla
 beside the row of docs/figures/dart/raducan2019_beta.csv (studies/dart/raducan2019_beta.py):
   - beta_launch at the end and its drift over the last fifth of the run (as tools/beta.py);
   - the beta of the ejecta faster than q U only, 1 + sum_{v > qU} m v_n / (m_imp U), for
-    q = 1e-2, 1e-3 (what a run too short for the slow, late ejecta can be compared with);
+    q = 5e-2, 2e-2, 1e-2 (what a run too short for the slow, late ejecta can be compared with);
   - M(>qU)/m_imp.
 With --plot FILE.png (matplotlib) beta_launch(t) of each run with the reference's final beta and
 fast-ejecta beta as lines; with --csv FILE the table.
@@ -18,7 +18,7 @@ import argparse
 import csv
 import os
 
-Q = (1e-2, 1e-3)
+Q = (5e-2, 2e-2, 1e-2)
 
 
 def read_reference(path):

@@ -31,7 +31,7 @@ what the studies change; Porosity/Yd1e3/ also holds the Yd1e5-* series):
                   material.inp has ALPHA0 1.3, i.e. 23%: which one the friction series used is not
                   stated in the repository)
 
-Also written per point: the ejected mass M/m_imp; M(>v)/m_imp at v/U = 1e-2, 1e-3, 1e-4 (launch
+Also written per point: the ejected mass M/m_imp; M(>v)/m_imp at v/U = 5e-2, 2e-2, 1e-2, 1e-3, 1e-4 (launch
 speed sqrt(v_x^2 + v_y^2)); and 1 + p_ej(>v)/(m_imp U), the beta counted from the ejecta faster than
 v only (a short run counts only the fast, early ejecta: this is what it can be compared with).
 
@@ -50,7 +50,7 @@ A_IMP = 40 * 1.05e-2  # m
 U_IMP = 7000.0  # m/s
 DELTA = 2700.0 / 2.7  # kg/m^3
 M_IMP = 4.0 / 3.0 * math.pi * A_IMP**3 * DELTA
-V_FRACTIONS = (1e-2, 1e-3, 1e-4)
+V_FRACTIONS = (5e-2, 2e-2, 1e-2, 1e-3, 1e-4)
 # Points whose data look wrong, with why (found by this script's own numbers).
 SUSPECT = {
     ("Porosity", "Yd1e5-50.csv"):
@@ -102,7 +102,7 @@ def main():
         sys.exit(f"no Porosity/ or Friction/ tracer files under {args.repo}")
     table.sort(key=lambda r: (r["series"], r["cohesion_Pa"], r["porosity_pct"], r["friction"]))
     keys = list(table[0].keys())
-    print(f"m_imp = {M_IMP:.1f} kg, U = {U_IMP:.0f} m/s, a = {A_IMP} m")
+    print(f"m_imp = {M_IMP:.1f} kg, U = {U_IMP:.0f} m/s, a = {A_IMP:.2f} m")
     print("  ".join(keys))
     for r in table:
         print("  ".join(f"{r[k]:.4g}" if isinstance(r[k], float) else str(r[k]) for k in keys
@@ -113,7 +113,7 @@ def main():
                     " Collins 2019 (Icarus 329), derived by studies/dart/raducan2019_beta.py from"
                     " their tracer data, repository sr516/iSALE_ejecta_data (CC BY-NC-SA 4.0):"
                     " derived numbers only.\n")
-            f.write(f"# m_imp = {M_IMP:.2f} kg (a = {A_IMP} m, delta = {DELTA:.0f} kg/m^3),"
+            f.write(f"# m_imp = {M_IMP:.2f} kg (a = {A_IMP:.2f} m, delta = {DELTA:.0f} kg/m^3),"
                     f" U = {U_IMP:.0f} m/s; velocities at EJECT_V = 0.84 m; friction-series"
                     " porosity 20% assumed\n")
             w = csv.DictWriter(f, fieldnames=keys)
