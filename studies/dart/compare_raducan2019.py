@@ -7,7 +7,7 @@ beside the row of docs/figures/dart/raducan2019_beta.csv (studies/dart/raducan20
   - beta_launch at the end and its drift over the last fifth of the run (as tools/beta.py);
   - the beta of the ejecta faster than q U only, 1 + sum_{v > qU} m v_n / (m_imp U), for
     q = 5e-2, 2e-2, 1e-2 (what a run too short for the slow, late ejecta can be compared with);
-  - M(>qU)/m_imp.
+  - its drift over the last fifth (the launches after 0.8 t_end), and M(>qU)/m_imp.
 With --plot FILE.png (matplotlib) beta_launch(t) of each run with the reference's final beta and
 fast-ejecta beta as lines; with --csv FILE the table.
 
@@ -36,7 +36,8 @@ def read_run(run):
     with open(path) as f:
         meta = dict(kv.split("=") for kv in f.readline().lstrip("# ").split())
         launches = [(float(r["mass_kg"]), float(r["speed_m_per_s"]),
-                     float(r["normal_speed_m_per_s"])) for r in csv.DictReader(f)]
+                     float(r["normal_speed_m_per_s"]), float(r["launch_time_s"]))
+                    for r in csv.DictReader(f)]
     return ts, float(meta["impactor_mass_kg"]), float(meta["impact_speed_m_per_s"]), launches
 
 
@@ -46,9 +47,12 @@ def measures(run):
     b_fifth = min(ts, key=lambda r: abs(r[0] - 0.8 * t_end))[1]
     out = {"t_end_s": t_end, "beta_launch": b_end, "drift_last_fifth": b_end - b_fifth}
     for q in Q:
-        fast = [(m, vn) for m, v, vn in launches if v > q * u and vn > 0.0]
-        out[f"beta_gt_{q:g}U"] = 1.0 + sum(m * vn for m, vn in fast) / (m_imp * u)
-        out[f"M_gt_{q:g}U_over_mimp"] = sum(m for m, _ in fast) / m_imp
+        fast = [(m, vn, t) for m, v, vn, t in launches if v > q * u and vn > 0.0]
+        out[f"beta_gt_{q:g}U"] = 1.0 + sum(m * vn for m, vn, _ in fast) / (m_imp * u)
+        # its drift over the last fifth: the same sum over the launches before 0.8 t_end
+        early = sum(m * vn for m, vn, t in fast if t <= 0.8 * t_end) / (m_imp * u)
+        out[f"drift_gt_{q:g}U"] = out[f"beta_gt_{q:g}U"] - 1.0 - early
+        out[f"M_gt_{q:g}U_over_mimp"] = sum(m for m, _, _ in fast) / m_imp
     return out, ts
 
 
