@@ -103,7 +103,8 @@ def plot(curves, path):
     for i, (row, ts) in enumerate(curves):
         colour = f"C{i}"
         label = f"{row['cohesion_Pa'] / 1e3:g} kPa, {row['porosity_pct']:g}%, f {row['friction']:g}"
-        ax.plot([t * 1e3 for t, _ in ts], [b for _, b in ts], colour, label=f"shatter {label}")
+        ax.plot([t * 1e3 for t, _ in ts], [b for _, b in ts], colour,
+                label=f"{row['run']}: {label}")
         ax.axhline(row["isale_beta_gt_0.01U"], color=colour, ls="--", lw=1)
         ax.axhline(row["isale_beta"], color=colour, ls=":", lw=1)
     ax.set_xlabel("t (ms)")
