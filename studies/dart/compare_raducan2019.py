@@ -1,0 +1,120 @@
+#!/usr/bin/python3
+"""Our r-z runs of scenes/dart/raducan2019-*.toml against the iSALE-2D grid of Raducan et al. 2019.
+
+For each RUN=COHESION_PA:POROSITY_PCT:FRICTION it reads RUN/timeseries.csv (beta_launch(t)) and
+RUN/ejecta_launch.csv (each ejected point once, at its crossing of the count plane) and prints,
+beside the row of docs/figures/dart/raducan2019_beta.csv (studies/dart/raducan2019_beta.py):
+  - beta_launch at the end and its drift over the last fifth of the run (as tools/beta.py);
+  - the beta of the ejecta faster than q U only, 1 + sum_{v > qU} m v_n / (m_imp U), for
+    q = 5e-2, 2e-2, 1e-2 (what a run too short for the slow, late ejecta can be compared with);
+  - its drift over the last fifth (the launches after 0.8 t_end), and M(>qU)/m_imp.
+With --plot FILE.png (matplotlib) beta_launch(t) of each run with the reference's final beta and
+fast-ejecta beta as lines; with --csv FILE the table.
+
+Usage: compare_raducan2019.py REFERENCE.csv RUN=1e4:20:0.6 [RUN=...] [--plot F.png] [--csv F.csv]
+"""
+
+import argparse
+import csv
+import os
+
+Q = (5e-2, 2e-2, 1e-2)
+
+
+def read_reference(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    return {(float(r["cohesion_Pa"]), float(r["porosity_pct"]), float(r["friction"])): r
+            for r in rows if r["series"] == "Porosity" or float(r["friction"]) != 0.6}
+
+
+def read_run(run):
+    with open(os.path.join(run, "timeseries.csv")) as f:
+        ts = [(float(r["time_s"]), float(r["beta_launch"])) for r in csv.DictReader(f)
+              if r.get("beta_launch")]
+    path = os.path.join(run, "ejecta_launch.csv")
+    with open(path) as f:
+        meta = dict(kv.split("=") for kv in f.readline().lstrip("# ").split())
+        launches = [(float(r["mass_kg"]), float(r["speed_m_per_s"]),
+                     float(r["normal_speed_m_per_s"]), float(r["launch_time_s"]))
+                    for r in csv.DictReader(f)]
+    return ts, float(meta["impactor_mass_kg"]), float(meta["impact_speed_m_per_s"]), launches
+
+
+def measures(run):
+    ts, m_imp, u, launches = read_run(run)
+    t_end, b_end = ts[-1]
+    b_fifth = min(ts, key=lambda r: abs(r[0] - 0.8 * t_end))[1]
+    out = {"t_end_s": t_end, "beta_launch": b_end, "drift_last_fifth": b_end - b_fifth}
+    for q in Q:
+        fast = [(m, vn, t) for m, v, vn, t in launches if v > q * u and vn > 0.0]
+        out[f"beta_gt_{q:g}U"] = 1.0 + sum(m * vn for m, vn, _ in fast) / (m_imp * u)
+        # its drift over the last fifth: the same sum over the launches before 0.8 t_end
+        early = sum(m * vn for m, vn, t in fast if t <= 0.8 * t_end) / (m_imp * u)
+        out[f"drift_gt_{q:g}U"] = out[f"beta_gt_{q:g}U"] - 1.0 - early
+        out[f"M_gt_{q:g}U_over_mimp"] = sum(m for m, _, _ in fast) / m_imp
+    return out, ts
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("reference")
+    ap.add_argument("runs", nargs="+", help="RUN=COHESION_PA:POROSITY_PCT:FRICTION")
+    ap.add_argument("--plot")
+    ap.add_argument("--csv")
+    args = ap.parse_args()
+    ref = read_reference(args.reference)
+    table, curves = [], []
+    for spec in args.runs:
+        run, point = spec.rsplit("=", 1)
+        key = tuple(float(v) for v in point.split(":"))
+        r = ref[key]
+        ours, ts = measures(run)
+        row = {"run": os.path.basename(run.rstrip("/")), "cohesion_Pa": key[0],
+               "porosity_pct": key[1], "friction": key[2], **ours,
+               "isale_beta": float(r["beta"])}
+        for q in Q:
+            row[f"isale_beta_gt_{q:g}U"] = float(r[f"beta_gt_{q:g}U"])
+            row[f"isale_M_gt_{q:g}U_over_mimp"] = float(r[f"M_gt_{q:g}U_over_mimp"])
+        table.append(row)
+        curves.append((row, ts))
+    keys = list(table[0].keys())
+    for r in table:
+        print(", ".join(f"{k} {r[k]:.4g}" if isinstance(r[k], float) else f"{k} {r[k]}"
+                        for k in keys))
+    if args.csv:
+        with open(args.csv, "w", newline="") as f:
+            f.write("# shatter r-z runs of scenes/dart/raducan2019-*.toml against the iSALE-2D beta"
+                    " of Raducan et al. 2019 (Icarus 329; derived from sr516/iSALE_ejecta_data by"
+                    " studies/dart/raducan2019_beta.py); studies/dart/compare_raducan2019.py\n")
+            w = csv.DictWriter(f, fieldnames=keys)
+            w.writeheader()
+            for r in table:
+                w.writerow({k: (f"{v:.5g}" if isinstance(v, float) else v) for k, v in r.items()})
+    if args.plot:
+        plot(curves, args.plot)
+
+
+def plot(curves, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for i, (row, ts) in enumerate(curves):
+        colour = f"C{i}"
+        label = f"{row['cohesion_Pa'] / 1e3:g} kPa, {row['porosity_pct']:g}%, f {row['friction']:g}"
+        ax.plot([t * 1e3 for t, _ in ts], [b for _, b in ts], colour,
+                label=f"{row['run']}: {label}")
+        ax.axhline(row["isale_beta_gt_0.01U"], color=colour, ls="--", lw=1)
+        ax.axhline(row["isale_beta"], color=colour, ls=":", lw=1)
+    ax.set_xlabel("t (ms)")
+    ax.set_ylabel("beta_launch")
+    ax.set_title("r-z MPM vs iSALE (Raducan et al. 2019): -- ejecta > 0.01 U, : all (final)",
+                 fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+if __name__ == "__main__":
+    main()
