@@ -316,6 +316,8 @@ class Runner {
 
   double failure_ratio() const {
     if (dist_) return last_failure_ratio_;  // of the last row (progress() makes no collective)
+    if (scene_.solver.geometry == Geometry::axisymmetric)  // a point is a ring: weigh by mass
+      return io::failed_mass_fraction(sim_.particles(), scene_.fracture.threshold, spec_.damaged);
     return io::failure_ratio(sim_.particles(), scene_.fracture.threshold, spec_.damaged);
   }
 

@@ -238,4 +238,22 @@ double failure_ratio(const ParticleStore& store, double threshold,
   return total == 0 ? 0.0 : static_cast<double>(failed) / static_cast<double>(total);
 }
 
+double failed_mass_fraction(const ParticleStore& store, double threshold,
+                            const std::vector<bool>& counted) {
+  if (!store.has(Field::damage)) return 0.0;
+  const auto d = store.col(Field::damage);
+  const auto m = store.col(Field::mass);
+  parallel::ExactSum failed, total;  // exact: the same bits in any point order
+  const auto& groups = store.groups();
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (g >= counted.size() || !counted[g]) continue;
+    for (std::size_t p = groups[g].range.begin; p < groups[g].range.end; ++p) {
+      if (d[p] >= threshold) failed.add(m[p]);
+      total.add(m[p]);
+    }
+  }
+  const double all = total.value();
+  return all > 0.0 ? failed.value() / all : 0.0;
+}
+
 }  // namespace shatter::io

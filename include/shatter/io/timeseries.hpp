@@ -124,4 +124,10 @@ std::array<std::int64_t, 2> failure_counts(const ParticleStore& store, double th
 double failure_ratio(const ParticleStore& store, double threshold,
                      const std::vector<bool>& counted);
 
+// The same, weighted by mass: the failure ratio of the axisymmetric mode, where a point is a ring
+// whose mass grows with its radius, so a count of points would weigh the axis' rings as much as
+// the outer ones.
+double failed_mass_fraction(const ParticleStore& store, double threshold,
+                            const std::vector<bool>& counted);
+
 }  // namespace shatter::io

@@ -212,5 +212,23 @@ TEST(TimeSeries, FailureRatioCountsOnlyFlaggedGroupsAtOrAboveThreshold) {
   EXPECT_EQ(failure_ratio(s, 0.9, none), 0.0);
 }
 
+// The axisymmetric mode's failure ratio (a point is a ring whose mass grows with r): the failed
+// points' share of the flagged groups' mass. Masses 1..8 kg, so the numbers are exact.
+TEST(TimeSeries, FailedMassFractionWeighsThePointsByMass) {
+  ParticleStore s = sample_store(4, 4);
+  const double d[] = {0.0, 0.9, 0.95, 0.89, 1.0, 1.0, 1.0, 1.0};
+  for (std::size_t p = 0; p < 8; ++p) {
+    s.col(Field::damage)[p] = d[p];
+    s.col(Field::mass)[p] = static_cast<double>(p + 1);
+  }
+  const std::vector<bool> first_only = {true, false};
+  EXPECT_EQ(failed_mass_fraction(s, 0.9, first_only), (2.0 + 3.0) / (1.0 + 2.0 + 3.0 + 4.0));
+  const std::vector<bool> both = {true, true};
+  EXPECT_EQ(failed_mass_fraction(s, 0.9, both), (2.0 + 3.0 + 5.0 + 6.0 + 7.0 + 8.0) / 36.0);
+  EXPECT_EQ(failed_mass_fraction(s, 0.9, {false, false}), 0.0);
+  // The count-based ratio of the same points differs: the two measures are not the same thing.
+  EXPECT_NE(failed_mass_fraction(s, 0.9, both), failure_ratio(s, 0.9, both));  // 31/36, 6/8
+}
+
 }  // namespace
 }  // namespace shatter::io
