@@ -154,6 +154,15 @@ INSTANTIATE_TEST_SUITE_P(PAlpha, PorousHugoniot,
 // curve without that stage (fully compacted at p_t) gives rho +15% and Us - up -17% at this up
 // (porous_jump.hpp, TwoStage::second_stage): far outside the bounds below.
 TEST(PorousHugoniotPumice, TwoStageCurveGivesTheJump) {
+#if defined(__SANITIZE_ADDRESS__)
+  // Under ASan/UBSan this run took 387 s of the CI's hour (session 15): the two-stage kernel
+  // solves for alpha with 40 bisection steps of two general pow calls per point and step, ~100x
+  // the dense EOS (docs/validation-porosity.md). The kernel itself runs under the sanitizers in
+  // tests/unit/materials/porous_catalogue_test.cpp (the curve against its closed form); this
+  // engine-level check of the same code runs in the Release tests.
+  GTEST_SKIP() << "engine-level pumice Hugoniot: Release only (the two-stage kernel is checked "
+                  "under the sanitizers by the PorousEntries tests)";
+#endif
   const MaterialCatalogue cat = MaterialCatalogue::builtin();
   const MaterialSpec& spec = cat.get("pumice");
   const test::TwoStage curve;  // the source's numbers, not the catalogue's
