@@ -16,6 +16,10 @@ Appends one row to the CSV (columns radius_m, speed_km_s, angle_deg, method, mat
 qstar_J_per_kg, runs, points_per_target) and, with --plot, draws every row of it against BA99's
 fitted curves (their Table III, basalt).
 
+--flaws benz_asphaug draws the flaws as Benz & Asphaug's code does (BA95 Sec. 4.3: N ln N flaws
+placed one by one on random points), BA99's method; the default keeps the engine's
+resolution-independent draw (docs/validation-qstar.md, session 16, for what it changes).
+
 Example: tools/qstar.py --radius 100 --speed 3 --work /tmp/qstar-100m --csv docs/qstar.csv
 """
 import argparse
@@ -34,10 +38,12 @@ from pathlib import Path
 COLUMNS = ["radius_m", "speed_km_s", "angle_deg", "method", "material", "qstar_J_per_kg", "runs",
            "points_per_target", "points_per_radius", "crossings", "q_lo_J_per_kg", "q_hi_J_per_kg",
            "f_lo", "f_hi", "tolerance", "cpu_s", "ba99_fit_J_per_kg", "seed", "points_per_cell",
-           "options"]
+           "options", "flaws"]
 # Rows written before a column existed get its value for the scenes those runs used: the default
-# flaw seed (fracture.seed = 1), 2 x 2 x 2 points per cell, no --set overrides.
-COLUMN_DEFAULTS = {"seed": "1", "points_per_cell": "2", "options": ""}
+# flaw seed (fracture.seed = 1), 2 x 2 x 2 points per cell, no --set overrides, the engine's
+# default (resolution-independent) flaws.
+COLUMN_DEFAULTS = {"seed": "1", "points_per_cell": "2", "options": "",
+                   "flaws": "resolution_independent"}
 # BA99 Table III (basalt): Q*_D = Q0 (R / 1 cm)^a + B rho (R / 1 cm)^b, Q in erg/g, rho in g/cm^3.
 # Not verified against the paper (its table could not be read; docs/validation-qstar.md, "The fit
 # constants"): the 3 km/s row matches the one secondary transcription found, the 5 km/s row
@@ -55,6 +61,20 @@ def ba99_qstar(radius_m, speed_km_s, rho=2.7, consts=None):
     q0, a, b_coef, b = consts or BA99_FIT[speed_km_s]
     r_cm = radius_m * 100.0
     return 1e-4 * (q0 * r_cm ** a + b_coef * rho * r_cm ** b)
+
+
+def damage_keys(o):
+    """Grady-Kipp damage with the Weibull flaws k, m of --weibull-k/-m, drawn by one of the engine's
+    two schemes (src/fracture/flaws.cpp): "resolution_independent" (the engine's default, the MPM
+    paper's Sec. 3.3 draw: a point's weakest flaw uniform in index on [1, 10^m], so its threshold
+    lies within a decade above the body's weakest, whatever the point count; total_flaws = 10^(m+1))
+    or "benz_asphaug" (BA95 Sec. 4.3, Eq. 20: flaw j = 1, 2, ... with threshold (j / kV)^(1/m) to a
+    random point until N ln N flaws are placed and every point holds one; the draw of Benz &
+    Asphaug's SPH code, BA99's method)."""
+    keys = f'model = "grady_kipp"\nweibull_m = {o.weibull_m}\nweibull_k = {o.weibull_k:.6g}\n'
+    if o.flaws == "benz_asphaug":
+        return keys + "explicit_flaws = 1"
+    return keys + f"total_flaws = {10.0 ** (o.weibull_m + 1):.6g}"
 
 
 def scene_text(o, q, run_dir):
@@ -91,20 +111,14 @@ radius = {o.radius:.9g}
 material = "{o.material}"
 points_per_cell = {o.points_per_cell}
 [body.target.damage]
-model = "grady_kipp"
-weibull_m = {o.weibull_m}
-weibull_k = {o.weibull_k:.6g}
-total_flaws = {10.0 ** (o.weibull_m + 1):.6g}
+{damage_keys(o)}
 [body.projectile]
 shape = "sphere"
 radius = {imp_radius:.9g}
 spacing = {imp_spacing:.9g}
 material = "{o.material}"
 [body.projectile.damage]
-model = "grady_kipp"
-weibull_m = {o.weibull_m}
-weibull_k = {o.weibull_k:.6g}
-total_flaws = {10.0 ** (o.weibull_m + 1):.6g}
+{damage_keys(o)}
 [impact]
 projectile = "projectile"
 target = "target"
@@ -243,10 +257,14 @@ def append_row(o, row):
         w.writerow([row[c] for c in COLUMNS])
 
 
+def flaw_label(flaws):
+    return ", BA95 flaws" if flaws == "benz_asphaug" else ""
+
+
 def plot(csv_path, png):
     """Every CSV row against BA99's fitted curves (constants unverified: docs/validation-qstar.md),
     with its bracket as an error bar. Left: the curves (rows with the default flaw seed, 2 points
-    per cell and no overrides, grouped by method, material, speed, resolution and end time).
+    per cell and no overrides, grouped by method, material, speed, resolution and flaw draw).
     Right: the variants at single sizes (other flaw seeds, other settings), beside the curve rows
     at the same speed and resolution for reference."""
     import matplotlib
@@ -280,30 +298,35 @@ def plot(csv_path, png):
     curves, variants = {}, {}
     for r in rows:
         key = (r["method"], r["material"], float(r["speed_km_s"]),
-               float(r.get("points_per_radius") or 0))
+               float(r.get("points_per_radius") or 0),
+               r.get("flaws") or COLUMN_DEFAULTS["flaws"])
         if variant(r):
             vkey = key + (r.get("seed") or "1", r.get("points_per_cell") or "2",
                           r.get("options") or "", float(r.get("crossings") or 5))
             variants.setdefault(vkey, []).append(r)
         else:
             curves.setdefault(key, []).append(r)
-    for (method, material, speed, ppr), rs in sorted(curves.items()):
+    for (method, material, speed, ppr, flaws), rs in sorted(curves.items()):
         line = "o-" if speed == 3.0 else "s--"  # 5 km/s dashed
+        if flaws == "benz_asphaug":
+            line = "^-" if speed == 3.0 else "v--"
         draw(axes[0], rs, line if len(rs) > 2 else line[0],
-             f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R")
-    for (method, material, speed, ppr, seed, ppc, options, cross), rs in sorted(variants.items()):
+             f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R{flaw_label(flaws)}")
+    for (method, material, speed, ppr, flaws, seed, ppc, options, cross), rs in \
+            sorted(variants.items()):
         what = [f"seed {seed}"] if seed != "1" else []
         what += [f"{cross:g} crossings"] if cross != 5.0 else []
         what += [f"{ppc} pt/cell " + options.replace("solver.", "")] if ppc != "2" or options else []
-        draw(axes[1], rs, "D", f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R, "
-             + ", ".join(what))
+        draw(axes[1], rs, "D", f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R"
+             f"{flaw_label(flaws)}, " + ", ".join(what))
     for key, rs in sorted(curves.items()):
         # the curve's rows at the sizes where it has variants
-        at = {r["radius_m"] for k, vs in variants.items() if k[:4] == key for r in vs}
+        at = {r["radius_m"] for k, vs in variants.items() if k[:5] == key for r in vs}
         if at:
-            method, material, speed, ppr = key
+            method, material, speed, ppr, flaws = key
             draw(axes[1], [r for r in rs if r["radius_m"] in at], "o", f"{method.upper()} "
-                 f"{material} {speed:g} km/s, {ppr:g} pts/R, seed 1, 5 crossings (left)")
+                 f"{material} {speed:g} km/s, {ppr:g} pts/R{flaw_label(flaws)}, seed 1, "
+                 "5 crossings (left)")
     axes[0].set_title("Q*_D curves, 45 degrees, 5 crossings", fontsize=10)
     axes[1].set_title("Variants at single sizes (3 km/s)", fontsize=10)
     for ax in axes:
@@ -325,6 +348,10 @@ def main():
     p.add_argument("--method", default="mpm", choices=["mpm", "sph"])
     p.add_argument("--weibull-k", type=float, default=4e35, help="m^-3 (BA99 basalt)")
     p.add_argument("--weibull-m", type=float, default=9.0)
+    p.add_argument("--flaws", default="resolution_independent",
+                   choices=["resolution_independent", "benz_asphaug"],
+                   help="flaw draw: the engine's default, or BA95's explicit flaws (BA99's method; "
+                   "docs/validation-qstar.md, session 16)")
     p.add_argument("--points-per-radius", type=float, default=10.0)
     p.add_argument("--points-per-cell", type=int, default=2,
                    help="points per cell per axis (the cell is this many point spacings)")
@@ -372,7 +399,8 @@ def main():
                    "f_hi": f"{r_hi['fraction']:.4f}", "tolerance": o.tolerance,
                    "cpu_s": f"{sum(r['cpu_s'] for r in cache.values()):.0f}",
                    "ba99_fit_J_per_kg": f"{fit:.6g}", "seed": o.seed,
-                   "points_per_cell": o.points_per_cell, "options": " ".join(o.set)})
+                   "points_per_cell": o.points_per_cell, "options": " ".join(o.set),
+                   "flaws": o.flaws})
     if o.plot:
         plot(o.csv, o.plot)
 

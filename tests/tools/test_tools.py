@@ -313,16 +313,24 @@ def test_qstar_scene_and_csv_columns(tmp_path):
     """tools/qstar.py: the trial scene carries the flaw seed and the points per cell (the cell
     is that many point spacings, points_per_radius spacings to the target radius), and a CSV
     written before the seed, points_per_cell and options columns existed is upgraded once with
-    the values its runs used (seed 1, 2 points per cell, no overrides) before a row is added."""
+    the values its runs used (seed 1, 2 points per cell, no overrides, the engine's default
+    flaws) before a row is added. --flaws benz_asphaug gives both bodies BA95's explicit flaws
+    (explicit_flaws = 1, no total_flaws); the default keeps the resolution-independent draw."""
     import argparse
     import csv as csvmod
     q = _qstar()
     o = argparse.Namespace(speed=3.0, radius=2.0, points_per_radius=8.0, points_per_cell=1,
                            crossings=5.0, sound_speed=4595.0, method="mpm", mesh=32, seed=7,
-                           material="basalt_ba99", weibull_m=9.0, weibull_k=4e35, angle=45.0)
+                           material="basalt_ba99", weibull_m=9.0, weibull_k=4e35, angle=45.0,
+                           flaws="resolution_independent")
     text = q.scene_text(o, 1000.0, tmp_path / "out")
     assert "[fracture]\nseed = 7\n" in text and "points_per_cell = 1\n" in text
     assert "cell_size = 0.25\n" in text  # 1 point per cell, 8 spacings per 2 m radius
+    assert text.count("total_flaws = 1e+10\n") == 2 and "explicit_flaws" not in text
+    o.flaws = "benz_asphaug"
+    text = q.scene_text(o, 1000.0, tmp_path / "out")
+    assert text.count("weibull_k = 4e+35\nexplicit_flaws = 1\n") == 2
+    assert "total_flaws" not in text
     old = tmp_path / "old.csv"
     legacy = q.COLUMNS[:q.COLUMNS.index("seed")]
     old.write_text(",".join(legacy) + "\n" + ",".join("1" for _ in legacy) + "\n")
@@ -330,23 +338,30 @@ def test_qstar_scene_and_csv_columns(tmp_path):
     q.append_row(argparse.Namespace(csv=str(old)), row)
     rows = list(csvmod.DictReader(old.open()))
     assert list(rows[0].keys()) == q.COLUMNS and len(rows) == 2
-    assert (rows[0]["seed"], rows[0]["points_per_cell"], rows[0]["options"]) == ("1", "2", "")
+    assert (rows[0]["seed"], rows[0]["points_per_cell"], rows[0]["options"],
+            rows[0]["flaws"]) == ("1", "2", "", "resolution_independent")
     assert rows[1]["seed"] == "2"
 
 
 def test_qstar_plot_draws_curves_and_variants(tmp_path):
     """tools/qstar.py --plot-only: a CSV with a curve (three sizes), a variant row (another
-    flaw seed) and a row in the older column set (no seed column) draws a non-empty PNG."""
+    flaw seed), a curve with BA95's flaws and a row in the older column set (no seed column)
+    draws a non-empty PNG."""
     q = _qstar()
     legacy = q.COLUMNS[:q.COLUMNS.index("seed")]
     path = tmp_path / "q.csv"
     lines = [",".join(q.COLUMNS)]
-    for radius, seed in ((1.0, 1), (100.0, 1), (1000.0, 1), (1000.0, 2)):
+    for radius, seed, flaws in ((1.0, 1, "resolution_independent"),
+                                (100.0, 1, "resolution_independent"),
+                                (1000.0, 1, "resolution_independent"),
+                                (1000.0, 2, "resolution_independent"), (1.0, 1, "benz_asphaug"),
+                                (100.0, 1, "benz_asphaug")):
         row = dict(radius_m=radius, speed_km_s=3.0, angle_deg=45.0, method="mpm",
                    material="basalt_ba99", qstar_J_per_kg=500.0, runs=5, points_per_target=7208,
                    points_per_radius=12.0, crossings=5.0, q_lo_J_per_kg=450.0,
                    q_hi_J_per_kg=550.0, f_lo=0.55, f_hi=0.45, tolerance=0.25, cpu_s=10,
-                   ba99_fit_J_per_kg=555.0, seed=seed, points_per_cell=2, options="")
+                   ba99_fit_J_per_kg=555.0, seed=seed, points_per_cell=2, options="",
+                   flaws=flaws)
         lines.append(",".join(str(row[c]) for c in q.COLUMNS))
     path.write_text("\n".join(lines) + "\n")
     q.plot(str(path), str(tmp_path / "q.png"))
