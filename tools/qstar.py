@@ -285,7 +285,8 @@ def plot(csv_path, png):
         # a catalogue of one's own only names where the material comes from: not a variant
         options = [o for o in (r.get("options") or "").split() if not o.startswith("catalogue=")]
         return (r.get("seed") or "1") != "1" or (r.get("points_per_cell") or "2") != "2" or \
-            bool(options) or float(r.get("crossings") or 5) != 5.0
+            bool(options) or float(r.get("crossings") or 5) != 5.0 or \
+            float(r.get("angle_deg") or 45) != 45.0
 
     def draw(ax, rs, fmt, label):
         rs.sort(key=lambda r: float(r["radius_m"]))
@@ -302,7 +303,8 @@ def plot(csv_path, png):
                r.get("flaws") or COLUMN_DEFAULTS["flaws"])
         if variant(r):
             vkey = key + (r.get("seed") or "1", r.get("points_per_cell") or "2",
-                          r.get("options") or "", float(r.get("crossings") or 5))
+                          r.get("options") or "", float(r.get("crossings") or 5),
+                          float(r.get("angle_deg") or 45))
             variants.setdefault(vkey, []).append(r)
         else:
             curves.setdefault(key, []).append(r)
@@ -312,9 +314,10 @@ def plot(csv_path, png):
             line = "^-" if speed == 3.0 else "v--"
         draw(axes[0], rs, line if len(rs) > 2 else line[0],
              f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R{flaw_label(flaws)}")
-    for (method, material, speed, ppr, flaws, seed, ppc, options, cross), rs in \
+    for (method, material, speed, ppr, flaws, seed, ppc, options, cross, angle), rs in \
             sorted(variants.items()):
         what = [f"seed {seed}"] if seed != "1" else []
+        what += [f"{angle:g} degrees"] if angle != 45.0 else []
         what += [f"{cross:g} crossings"] if cross != 5.0 else []
         what += [f"{ppc} pt/cell " + options.replace("solver.", "")] if ppc != "2" or options else []
         draw(axes[1], rs, "D", f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R"
