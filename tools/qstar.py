@@ -277,6 +277,7 @@ def plot(csv_path, png):
             (5.0, BA99_FIT[5.0], "k:", "BA99 fit 5 km/s (Q0 9.0e7, a -0.36)"),
             (5.0, BA99_FIT_5_ALT, "k-.", "BA99 fit 5 km/s as also transcribed (Q0 7.0e7, a -0.38)")]
     for ax in axes:
+        ax.set_prop_cycle(color=plt.cm.tab20.colors)  # more curves than the default 10 colours
         for _, consts, style, label in fits:
             ax.loglog(radii, [ba99_qstar(r, None, consts=consts) for r in radii], style,
                       lw=1, label=label + " (Table III, unverified)")
@@ -288,13 +289,13 @@ def plot(csv_path, png):
             bool(options) or float(r.get("crossings") or 5) != 5.0 or \
             float(r.get("angle_deg") or 45) != 45.0
 
-    def draw(ax, rs, fmt, label):
+    def draw(ax, rs, fmt, label, lw=1.5):
         rs.sort(key=lambda r: float(r["radius_m"]))
         x = [float(r["radius_m"]) for r in rs]
         y = [float(r["qstar_J_per_kg"]) for r in rs]
         lo = [yy - float(r.get("q_lo_J_per_kg") or yy) for r, yy in zip(rs, y)]
         hi = [float(r.get("q_hi_J_per_kg") or yy) - yy for r, yy in zip(rs, y)]
-        ax.errorbar(x, y, yerr=[lo, hi], fmt=fmt, ms=4, capsize=2, label=label)
+        ax.errorbar(x, y, yerr=[lo, hi], fmt=fmt, ms=4, capsize=2, label=label, lw=lw)
 
     curves, variants = {}, {}
     for r in rows:
@@ -313,7 +314,8 @@ def plot(csv_path, png):
         if flaws == "benz_asphaug":
             line = "^-" if speed == 3.0 else "v--"
         draw(axes[0], rs, line if len(rs) > 2 else line[0],
-             f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R{flaw_label(flaws)}")
+             f"{method.upper()} {material} {speed:g} km/s, {ppr:g} pts/R{flaw_label(flaws)}",
+             lw=2.5 if flaws == "benz_asphaug" else 1.0)
     for (method, material, speed, ppr, flaws, seed, ppc, options, cross, angle), rs in \
             sorted(variants.items()):
         what = [f"seed {seed}"] if seed != "1" else []
