@@ -315,7 +315,7 @@ def test_qstar_scene_and_csv_columns(tmp_path):
     written before the seed, points_per_cell and options columns existed is upgraded once with
     the values its runs used (seed 1, 2 points per cell, no overrides, the engine's default
     flaws) before a row is added. --flaws benz_asphaug gives both bodies BA95's explicit flaws
-    (explicit_flaws = 1, no total_flaws); the default keeps the resolution-independent draw."""
+    (explicit_flaws = 1, no total_flaws); --flaws resolution_independent the engine's own draw."""
     import argparse
     import csv as csvmod
     q = _qstar()
