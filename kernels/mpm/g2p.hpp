@@ -91,9 +91,10 @@ struct G2PWindow : WindowGeometry {
 // sum_I N_I(x_p) u_I over the stencil of `st` for the window fields of G2PWindow: lanes 0-5 of
 // `fp` the acceleration and velocity, `fv` the filtered velocity (Filtered only). The weights are
 // N = (w_x w_y) w_z as in the scalar loop, and each lane adds fma(N, u_I, sum) node by node.
-template <bool Filtered, class Shape>
-void g2p_gather(const Stencil<Shape>& st, const G2PWindow& win, double (&fp)[8], double (&fv)[4]) {
-  constexpr int W = Shape::kWidth;
+// St: a Stencil, or a StoredStencil read in place.
+template <bool Filtered, class St>
+void g2p_gather(const St& st, const G2PWindow& win, double (&fp)[8], double (&fv)[4]) {
+  constexpr int W = St::W;
   Lanes<8> s8 = Lanes<8>::zero();
   Lanes<4> s4 = Lanes<4>::zero();
   for (int a = 0; a < W; ++a) {
@@ -125,15 +126,23 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
                                    in.fvx,          in.fvy,          in.fvz};
   win.load(neighbours, fields, filtered);
   Stencil<Shape> st;
+  const bool stored = in.stencil.mode == StencilCache::kLoad;
+  const auto gather = [&](const auto& stencil, double(&s)[8], double(&t)[4]) {
+    if (filtered) {
+      g2p_gather<true>(stencil, win, s, t);
+    } else {
+      g2p_gather<false>(stencil, win, s, t);
+    }
+  };
   for (const std::uint32_t p : particles) {
-    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-    st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
     alignas(64) double s[8];
     alignas(32) double t[4] = {};
-    if (filtered) {
-      g2p_gather<true>(st, win, s, t);
+    if (stored) {  // the engine's case: read in place (StoredStencil)
+      gather(StoredStencil<Shape>(in.stencil, p), s, t);
     } else {
-      g2p_gather<false>(st, win, s, t);
+      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+      gather(st, s, t);
     }
     const double ax = s[0], ay = s[1], az = s[2], ux = s[3], uy = s[4], uz = s[5];
     const double wx = filtered ? t[0] : ux, wy = filtered ? t[1] : uy, wz = filtered ? t[2] : uz;

@@ -5,7 +5,8 @@
 // the affine term) against a scalar scatter written with the FMAs of the scalar code. The vector
 // code promises the same IEEE operations per lane (kernels/mpm/lanes.hpp), so the comparison is
 // bitwise: a reordered sum, a contracted product, a misplaced window node or lane would change the
-// last bits of these random sums.
+// last bits of these random sums. Each gather is also run on the stencil row the engine stores,
+// read in place (kernels::StoredStencil), which must give the same bits.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -62,6 +63,19 @@ struct Scene {
       f.resize(n);
       for (double& a : f) a = v(rng) * std::pow(10.0, e(rng));
     }
+    // The stencils as the engine's sort stage stores them, read in place by StoredStencil.
+    rows.resize(x.size() * Stencil<Shape>::kRow);
+    offs.resize(x.size());
+    const double* const X[3] = {x.data(), y.data(), z.data()};
+    store_stencils<Shape>(X, size0.data(), inv_h, 0, x.size(),
+                          {rows.data(), offs.data(), StencilCache::kStore});
+  }
+
+  std::vector<double> rows;
+  std::vector<std::uint8_t> offs;
+  StencilCache stored() const {
+    return {const_cast<double*>(rows.data()), const_cast<std::uint8_t*>(offs.data()),
+            StencilCache::kLoad};
   }
 };
 
@@ -106,6 +120,20 @@ void check_g2p_gather() {
         ASSERT_TRUE(same_bits(t[f], ref[6 + f])) << "particle " << p << " filtered " << f;
         EXPECT_EQ(t_plain[f], 7.0);  // without a filtered field the gather leaves it alone
       }
+      // The stored row read in place (the engine's path) gives the bits of the same row copied
+      // into a Stencil (Stencil::prepare, kLoad). Not those of `st`: the vectorised
+      // store_stencils may round a uGIMP weight differently from Stencil::compute.
+      Stencil<Shape> copied;
+      copied.prepare(sc.stored(), p, xi, 0.5 * sc.size0[p] * sc.inv_h, sc.grid.coord(b));
+      double s_row[8], t_row[4], s_copy[8], t_copy[4];
+      g2p_gather<true>(StoredStencil<Shape>(sc.stored(), p), win, s_row, t_row);
+      g2p_gather<true>(copied, win, s_copy, t_copy);
+      for (int f = 0; f < 6; ++f) {
+        ASSERT_TRUE(same_bits(s_row[f], s_copy[f])) << "stored row, particle " << p << " " << f;
+      }
+      for (int f = 0; f < 3; ++f) {
+        ASSERT_TRUE(same_bits(t_row[f], t_copy[f])) << "stored row, particle " << p;
+      }
       ++checked;
     }
   }
@@ -142,12 +170,19 @@ void check_velocity_gradient_gather() {
           }
         }
       }
-      double L[3][4];
+      double L[3][4], L_row[3][4], L_copy[3][4];
       velocity_gradient_gather(st, win, L);
+      // The stored row in place against the same row copied (see check_g2p_gather).
+      Stencil<Shape> copied;
+      copied.prepare(sc.stored(), p, xi, 0.5 * sc.size0[p] * sc.inv_h, sc.grid.coord(b));
+      velocity_gradient_gather(StoredStencil<Shape>(sc.stored(), p), win, L_row);
+      velocity_gradient_gather(copied, win, L_copy);
       for (int r = 0; r < 3; ++r) {
         for (int q = 0; q < 4; ++q) {
           ASSERT_TRUE(same_bits(L[r][q], ref[r][q]))
               << "particle " << p << " L" << r << q << ": " << L[r][q] << " vs " << ref[r][q];
+          ASSERT_TRUE(same_bits(L_row[r][q], L_copy[r][q]))
+              << "stored row, particle " << p << " L" << r << q;
         }
       }
       ++checked;
