@@ -35,20 +35,17 @@ struct G2PParticles {
 
 // Interpolated nodal velocity at a particle, w_p = sum_I N_I(x_p) v_I: the S operator of
 // Hammerquist & Nairn (2017), used by XPIC's extra grid-particle-grid passes.
-template <class Shape>
-void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Coord& owner,
-                     const std::uint32_t* neighbours, const double* vx, const double* vy,
-                     const double* vz, double* wx, double* wy, double* wz) {
-  constexpr int W = Shape::kWidth;
-  Stencil<Shape> st;
-  const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-  st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+// St: a Stencil, or a StoredStencil read in place (stencil.hpp).
+template <class St>
+void gather_velocity_at(const St& st, const std::uint32_t* neighbours, const double* vx,
+                        const double* vy, const double* vz, double& wx, double& wy, double& wz) {
+  constexpr int W = St::W;
   double ux = 0, uy = 0, uz = 0;
   for (int a = 0; a < W; ++a) {
     for (int b = 0; b < W; ++b) {
       const double wab = st.w[0][a] * st.w[1][b];
       for (int c = 0; c < W; ++c) {
-        const std::uint32_t i = st.node(neighbours, a, b, c);
+        const std::uint32_t i = node_index(st, neighbours, a, b, c);
         const double N = wab * st.w[2][c];
         ux += N * vx[i];
         uy += N * vy[i];
@@ -56,9 +53,24 @@ void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Co
       }
     }
   }
-  wx[p] = ux;
-  wy[p] = uy;
-  wz[p] = uz;
+  wx = ux;
+  wy = uy;
+  wz = uz;
+}
+
+template <class Shape>
+void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Coord& owner,
+                     const std::uint32_t* neighbours, const double* vx, const double* vy,
+                     const double* vz, double* wx, double* wy, double* wz) {
+  if (in.stencil.mode == StencilCache::kLoad) {  // the engine's case: the row in place
+    gather_velocity_at(StoredStencil<Shape>(in.stencil, p), neighbours, vx, vy, vz, wx[p], wy[p],
+                       wz[p]);
+    return;
+  }
+  Stencil<Shape> st;
+  const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+  st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+  gather_velocity_at(st, neighbours, vx, vy, vz, wx[p], wy[p], wz[p]);
 }
 
 // The node fields of a G2P window, side by side per node so that one vector load takes a node's

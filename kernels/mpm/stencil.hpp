@@ -115,6 +115,16 @@ struct StoredStencil {
   }
 };
 
+// Global node index of stencil node (a, b, c) of a Stencil or a StoredStencil (Stencil::node).
+template <class St>
+std::uint32_t node_index(const St& st, const std::uint32_t* neighbours, int a, int b, int c) {
+  const int lx = st.off[0] + a, ly = st.off[1] + b, lz = st.off[2] + c;
+  const int s = (lx >> SparseGrid::kBlockBits) | ((ly >> SparseGrid::kBlockBits) << 1) |
+                ((lz >> SparseGrid::kBlockBits) << 2);
+  constexpr int m = SparseGrid::kBlock - 1;
+  return neighbours[s] * SparseGrid::kBlockNodes + SparseGrid::local(lx & m, ly & m, lz & m);
+}
+
 // The degenerate axis of the axisymmetric mode: node 0 with weight 1, derivative 0.
 template <int W>
 int degenerate_weights(double (&w)[W], double (&dw)[W]) {
