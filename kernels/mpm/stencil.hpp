@@ -97,9 +97,10 @@ struct Stencil {
 // A stored stencil read in place (StencilCache::kLoad): particle p's weights and derivatives
 // straight from its cache row, with no copy into a Stencil. Stencil::prepare copies the row with
 // vector stores, and the gathers' scalar loads of single weights right after cannot be forwarded
-// from a wider store: they wait for the store to retire. Read in place, the velocity gradient's
-// arithmetic core (bench/transfer_lanes.cpp) took 21-29 instead of 45 ns per particle
-// (docs/performance.md, "MPM transfers, round 4"). Same values, same operations: the same bits.
+// from a wider store (the likely cause): they wait for the store to retire. Read in place, the
+// velocity gradient's arithmetic core (bench/transfer_lanes.cpp) takes 25 instead of 49 ns per
+// particle, G2P's 20 instead of 25 (docs/performance.md, "MPM transfers, round 4"). Same values,
+// same operations: the same bits.
 template <class Shape>
 struct StoredStencil {
   static constexpr int W = Shape::kWidth;
