@@ -35,20 +35,17 @@ struct G2PParticles {
 
 // Interpolated nodal velocity at a particle, w_p = sum_I N_I(x_p) v_I: the S operator of
 // Hammerquist & Nairn (2017), used by XPIC's extra grid-particle-grid passes.
-template <class Shape>
-void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Coord& owner,
-                     const std::uint32_t* neighbours, const double* vx, const double* vy,
-                     const double* vz, double* wx, double* wy, double* wz) {
-  constexpr int W = Shape::kWidth;
-  Stencil<Shape> st;
-  const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-  st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+// St: a Stencil, or a StoredStencil read in place (stencil.hpp).
+template <class St>
+void gather_velocity_at(const St& st, const std::uint32_t* neighbours, const double* vx,
+                        const double* vy, const double* vz, double& wx, double& wy, double& wz) {
+  constexpr int W = St::W;
   double ux = 0, uy = 0, uz = 0;
   for (int a = 0; a < W; ++a) {
     for (int b = 0; b < W; ++b) {
       const double wab = st.w[0][a] * st.w[1][b];
       for (int c = 0; c < W; ++c) {
-        const std::uint32_t i = st.node(neighbours, a, b, c);
+        const std::uint32_t i = node_index(st, neighbours, a, b, c);
         const double N = wab * st.w[2][c];
         ux += N * vx[i];
         uy += N * vy[i];
@@ -56,9 +53,24 @@ void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Co
       }
     }
   }
-  wx[p] = ux;
-  wy[p] = uy;
-  wz[p] = uz;
+  wx = ux;
+  wy = uy;
+  wz = uz;
+}
+
+template <class Shape>
+void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Coord& owner,
+                     const std::uint32_t* neighbours, const double* vx, const double* vy,
+                     const double* vz, double* wx, double* wy, double* wz) {
+  if (in.stencil.mode == StencilCache::kLoad) {  // the engine's case: the row in place
+    gather_velocity_at(StoredStencil<Shape>(in.stencil, p), neighbours, vx, vy, vz, wx[p], wy[p],
+                       wz[p]);
+    return;
+  }
+  Stencil<Shape> st;
+  const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+  st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+  gather_velocity_at(st, neighbours, vx, vy, vz, wx[p], wy[p], wz[p]);
 }
 
 // The node fields of a G2P window, side by side per node so that one vector load takes a node's
@@ -91,9 +103,10 @@ struct G2PWindow : WindowGeometry {
 // sum_I N_I(x_p) u_I over the stencil of `st` for the window fields of G2PWindow: lanes 0-5 of
 // `fp` the acceleration and velocity, `fv` the filtered velocity (Filtered only). The weights are
 // N = (w_x w_y) w_z as in the scalar loop, and each lane adds fma(N, u_I, sum) node by node.
-template <bool Filtered, class Shape>
-void g2p_gather(const Stencil<Shape>& st, const G2PWindow& win, double (&fp)[8], double (&fv)[4]) {
-  constexpr int W = Shape::kWidth;
+// St: a Stencil, or a StoredStencil read in place.
+template <bool Filtered, class St>
+void g2p_gather(const St& st, const G2PWindow& win, double (&fp)[8], double (&fv)[4]) {
+  constexpr int W = St::W;
   Lanes<8> s8 = Lanes<8>::zero();
   Lanes<4> s4 = Lanes<4>::zero();
   for (int a = 0; a < W; ++a) {
@@ -125,15 +138,23 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
                                    in.fvx,          in.fvy,          in.fvz};
   win.load(neighbours, fields, filtered);
   Stencil<Shape> st;
+  const bool stored = in.stencil.mode == StencilCache::kLoad;
+  const auto gather = [&](const auto& stencil, double(&s)[8], double(&t)[4]) {
+    if (filtered) {
+      g2p_gather<true>(stencil, win, s, t);
+    } else {
+      g2p_gather<false>(stencil, win, s, t);
+    }
+  };
   for (const std::uint32_t p : particles) {
-    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-    st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
     alignas(64) double s[8];
     alignas(32) double t[4] = {};
-    if (filtered) {
-      g2p_gather<true>(st, win, s, t);
+    if (stored) {  // the engine's case: read in place (StoredStencil)
+      gather(StoredStencil<Shape>(in.stencil, p), s, t);
     } else {
-      g2p_gather<false>(st, win, s, t);
+      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+      gather(st, s, t);
     }
     const double ax = s[0], ay = s[1], az = s[2], ux = s[3], uy = s[4], uz = s[5];
     const double wx = filtered ? t[0] : ux, wy = filtered ? t[1] : uy, wz = filtered ? t[2] : uz;

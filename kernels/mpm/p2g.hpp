@@ -89,9 +89,10 @@ void p2g_clear(P2GScratch& s) {
 // scalar scatter.
 // kAxisymmetric: the y gradient is zero (the degenerate y stencil), so the s_y g_y term carries
 // the hoop force instead: s_y = (hoop, 0, 0) and g_y = N (sigma_xy = sigma_yz = 0, no torsion).
-template <class Shape, bool kForce, bool kAxisymmetric = false>
-void p2g_lanes(const Stencil<Shape>& st, const P2GPoint& pt, P2GScratch& s) {
-  constexpr int W = Shape::kWidth;
+// St: a Stencil, or a StoredStencil read in place (stencil.hpp).
+template <bool kForce, bool kAxisymmetric = false, class St>
+void p2g_lanes(const St& st, const P2GPoint& pt, P2GScratch& s) {
+  constexpr int W = St::W;
   constexpr int E = P2GScratch::kEdge;
   const Lanes<4> q = Lanes<4>::set(pt.m, pt.mvx, pt.mvy, pt.mvz);
   const Lanes<4> sx = Lanes<4>::set(pt.sxx, pt.sxy, pt.sxz, 0.0);
@@ -221,12 +222,17 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
   static_assert(!(kAffine && kAxisymmetric), "APIC carries no hoop term");
   p2g_clear<kForce, kLanes>(s);
   Stencil<Shape> st;
+  const bool stored = in.stencil.mode == StencilCache::kLoad;
   for (const std::uint32_t p : particles) {
+    const P2GPoint pt = p2g_point<kForce, kAxisymmetric>(in, p);
+    if (kLanes && stored) {  // the engine's FLIP scatters: the stored row read in place
+      p2g_lanes<kForce, kAxisymmetric>(StoredStencil<Shape>(in.stencil, p), pt, s);
+      continue;
+    }
     const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
     st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
-    const P2GPoint pt = p2g_point<kForce, kAxisymmetric>(in, p);
     if constexpr (kLanes) {
-      p2g_lanes<Shape, kForce, kAxisymmetric>(st, pt, s);
+      p2g_lanes<kForce, kAxisymmetric>(st, pt, s);
     } else {
       p2g_affine<Shape, kForce>(in, p, st, xi, pt, s);
     }

@@ -94,6 +94,38 @@ struct Stencil {
   }
 };
 
+// A stored stencil read in place (StencilCache::kLoad): particle p's weights and derivatives
+// straight from its cache row, with no copy into a Stencil. Stencil::prepare copies the row with
+// vector stores, and the gathers' scalar loads of single weights right after cannot be forwarded
+// from a wider store (the likely cause): they wait for the store to retire. Read in place, the
+// velocity gradient's arithmetic core (bench/transfer_lanes.cpp) takes 25 instead of 49 ns per
+// particle, G2P's 20 instead of 25 (docs/performance.md, "MPM transfers, round 4"). Same values,
+// same operations: the same bits.
+template <class Shape>
+struct StoredStencil {
+  static constexpr int W = Shape::kWidth;
+  const double (*w)[W];   // w[3][W] of the row
+  const double (*dw)[W];  // dw[3][W] of the row
+  int off[3];             // as Stencil::off
+
+  StoredStencil(const StencilCache& cache, std::size_t p)
+      : w(reinterpret_cast<const double (*)[W]>(cache.w + p * Stencil<Shape>::kRow)),
+        dw(reinterpret_cast<const double (*)[W]>(cache.w + p * Stencil<Shape>::kRow + 3 * W)) {
+    const unsigned o = cache.off[p];
+    for (int d = 0; d < 3; ++d) off[d] = static_cast<int>((o >> (2 * d)) & 3U);
+  }
+};
+
+// Global node index of stencil node (a, b, c) of a Stencil or a StoredStencil (Stencil::node).
+template <class St>
+std::uint32_t node_index(const St& st, const std::uint32_t* neighbours, int a, int b, int c) {
+  const int lx = st.off[0] + a, ly = st.off[1] + b, lz = st.off[2] + c;
+  const int s = (lx >> SparseGrid::kBlockBits) | ((ly >> SparseGrid::kBlockBits) << 1) |
+                ((lz >> SparseGrid::kBlockBits) << 2);
+  constexpr int m = SparseGrid::kBlock - 1;
+  return neighbours[s] * SparseGrid::kBlockNodes + SparseGrid::local(lx & m, ly & m, lz & m);
+}
+
 // The degenerate axis of the axisymmetric mode: node 0 with weight 1, derivative 0.
 template <int W>
 int degenerate_weights(double (&w)[W], double (&dw)[W]) {
@@ -163,9 +195,10 @@ struct WindowGeometry {
     }
   }
 
-  // Window index of stencil node (a, b, 0); node (a, b, c) is at row(st, a, b) + c.
-  template <class Shape>
-  static int row(const Stencil<Shape>& st, int a, int b) {
+  // Window index of stencil node (a, b, 0); node (a, b, c) is at row(st, a, b) + c. St: a
+  // Stencil or a StoredStencil.
+  template <class St>
+  static int row(const St& st, int a, int b) {
     return ((st.off[0] + a) * kEdge + (st.off[1] + b)) * kEdge + st.off[2];
   }
 };

@@ -31,11 +31,11 @@ using GradientWindow = NodeWindow<3>;
 // B_b = (w_y, w'_y, w_y, w_y), C_c = (w_z, w_z, w'_z, w_z): each lane the product of the scalar
 // loop, in its order. Row r of L then adds fma(v_rI, G_I, L_r) node by node (lanes.hpp): the
 // scalar loop's operations; L[r][3] is the interpolated velocity sum_I N_I v_rI (read by the
-// axisymmetric mode's hoop rate; in 3-D the lane was idle and costs nothing).
-template <class Shape>
-void velocity_gradient_gather(const Stencil<Shape>& st, const GradientWindow& win,
-                              double (&L)[3][4]) {
-  constexpr int W = Shape::kWidth;
+// axisymmetric mode's hoop rate; in 3-D the lane was idle and costs nothing). St: a Stencil, or
+// a StoredStencil read in place.
+template <class St>
+void velocity_gradient_gather(const St& st, const GradientWindow& win, double (&L)[3][4]) {
+  constexpr int W = St::W;
   const double(&v)[3][GradientWindow::kSize] = win.v;
   Lanes<4> A[W], B[W], C[W];
   for (int a = 0; a < W; ++a) {
@@ -77,12 +77,17 @@ void velocity_gradient_block(const GradientParticles& in, std::span<const std::u
   const double* fields[3] = {nodes.px.data(), nodes.py.data(), nodes.pz.data()};
   win.load(neighbours, fields, 3);
   Stencil<Shape> st;
+  const bool stored = in.stencil.mode == StencilCache::kLoad;
   for (const std::uint32_t p : particles) {
-    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-    st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
     alignas(32) double L[3][4];
-    velocity_gradient_gather(st, win, L);
-    if constexpr (kAxisymmetric) L[1][1] = L[0][3] / xi[0];  // cell units, as the gradients
+    if (stored) {  // the engine's case: read in place (StoredStencil)
+      velocity_gradient_gather(StoredStencil<Shape>(in.stencil, p), win, L);
+    } else {
+      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+      velocity_gradient_gather(st, win, L);
+    }
+    if constexpr (kAxisymmetric) L[1][1] = L[0][3] / (in.x[p] * in.inv_h);  // cell units
     if (in.vgrad[0] != nullptr) {
       for (int r = 0; r < 3; ++r) {
         for (int q = 0; q < 3; ++q) in.vgrad[3 * r + q][p] = in.inv_h * L[r][q];

@@ -5,12 +5,15 @@
 // the affine term) against a scalar scatter written with the FMAs of the scalar code. The vector
 // code promises the same IEEE operations per lane (kernels/mpm/lanes.hpp), so the comparison is
 // bitwise: a reordered sum, a contracted product, a misplaced window node or lane would change the
-// last bits of these random sums.
+// last bits of these random sums. Each gather is also run on the stencil row the engine stores,
+// read in place (kernels::StoredStencil), which must give the same bits.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -62,8 +65,35 @@ struct Scene {
       f.resize(n);
       for (double& a : f) a = v(rng) * std::pow(10.0, e(rng));
     }
+    // The stencils as the engine's sort stage stores them, read in place by StoredStencil.
+    rows.resize(x.size() * Stencil<Shape>::kRow);
+    offs.resize(x.size());
+    const double* const X[3] = {x.data(), y.data(), z.data()};
+    store_stencils<Shape>(X, size0.data(), inv_h, 0, x.size(),
+                          {rows.data(), offs.data(), StencilCache::kStore});
+  }
+
+  std::vector<double> rows;
+  std::vector<std::uint8_t> offs;
+  StencilCache stored() const {
+    return {const_cast<double*>(rows.data()), const_cast<std::uint8_t*>(offs.data()),
+            StencilCache::kLoad};
   }
 };
+
+// Particle p's stored row copied into a Stencil by hand (what Stencil::prepare does for kLoad).
+// Not through prepare: it holds Stencil::compute, and one more inlined copy of compute in this
+// file may round a uGIMP weight differently (-ffp-contract=fast) from the kernels' copies.
+template <class Shape>
+Stencil<Shape> row_stencil(const Scene& sc, std::uint32_t p) {
+  constexpr int W = Shape::kWidth;
+  Stencil<Shape> st{};
+  const double* row = sc.rows.data() + std::size_t{p} * Stencil<Shape>::kRow;
+  std::memcpy(&st.w[0][0], row, sizeof st.w);
+  std::memcpy(&st.dw[0][0], row + 3 * W, sizeof st.dw);
+  for (int d = 0; d < 3; ++d) st.off[d] = static_cast<int>((sc.offs[p] >> (2 * d)) & 3U);
+  return st;
+}
 
 template <class Shape>
 void check_g2p_gather() {
@@ -106,6 +136,19 @@ void check_g2p_gather() {
         ASSERT_TRUE(same_bits(t[f], ref[6 + f])) << "particle " << p << " filtered " << f;
         EXPECT_EQ(t_plain[f], 7.0);  // without a filtered field the gather leaves it alone
       }
+      // The stored row read in place (the engine's path) gives the bits of the same row copied
+      // into a Stencil (Stencil::prepare, kLoad). Not those of `st`: the vectorised
+      // store_stencils may round a uGIMP weight differently from Stencil::compute.
+      const Stencil<Shape> copied = row_stencil<Shape>(sc, p);
+      double s_row[8], t_row[4], s_copy[8], t_copy[4];
+      g2p_gather<true>(StoredStencil<Shape>(sc.stored(), p), win, s_row, t_row);
+      g2p_gather<true>(copied, win, s_copy, t_copy);
+      for (int f = 0; f < 6; ++f) {
+        ASSERT_TRUE(same_bits(s_row[f], s_copy[f])) << "stored row, particle " << p << " " << f;
+      }
+      for (int f = 0; f < 3; ++f) {
+        ASSERT_TRUE(same_bits(t_row[f], t_copy[f])) << "stored row, particle " << p;
+      }
       ++checked;
     }
   }
@@ -142,12 +185,18 @@ void check_velocity_gradient_gather() {
           }
         }
       }
-      double L[3][4];
+      double L[3][4], L_row[3][4], L_copy[3][4];
       velocity_gradient_gather(st, win, L);
+      // The stored row in place against the same row copied (see check_g2p_gather).
+      const Stencil<Shape> copied = row_stencil<Shape>(sc, p);
+      velocity_gradient_gather(StoredStencil<Shape>(sc.stored(), p), win, L_row);
+      velocity_gradient_gather(copied, win, L_copy);
       for (int r = 0; r < 3; ++r) {
         for (int q = 0; q < 4; ++q) {
           ASSERT_TRUE(same_bits(L[r][q], ref[r][q]))
               << "particle " << p << " L" << r << q << ": " << L[r][q] << " vs " << ref[r][q];
+          ASSERT_TRUE(same_bits(L_row[r][q], L_copy[r][q]))
+              << "stored row, particle " << p << " L" << r << q;
         }
       }
       ++checked;
@@ -160,7 +209,8 @@ void check_velocity_gradient_gather() {
 // owner block in turn, against a scalar scatter into a per-block scratch grid with
 //   m += m_p N, p += m_p v_p N (one fma each) and
 //   f += fma(mb, N, fma(s_z, g_z, fma(s_x, g_x, s_y g_y)))  (Eqs. 29, 30),
-// flushed into the grid arrays the same way (nodes with zero scratch mass skipped).
+// flushed into the grid arrays the same way (nodes with zero scratch mass skipped). The kernel
+// reads the stored stencil rows in place (kLoad, the engine's path), the reference the same rows.
 template <class Shape, bool kForce>
 void check_p2g_scatter() {
   Scene sc{Shape{}};
@@ -186,6 +236,7 @@ void check_p2g_scatter() {
     in.bx = col[11].data(), in.by = col[12].data(), in.bz = col[13].data();
   }
   in.inv_h = sc.inv_h;
+  in.stencil = sc.stored();  // the engine's path: the stored rows, read in place
   SparseGrid::Nodes& nodes = sc.grid.nodes();
   const std::size_t nn = nodes.px.size();
   for (auto* f : {&nodes.mass, &nodes.px, &nodes.py, &nodes.pz, &nodes.fx, &nodes.fy, &nodes.fz}) {
@@ -202,9 +253,7 @@ void check_p2g_scatter() {
     std::vector<double> sr[7];
     for (auto& r : sr) r.assign(P2GScratch::kSize, 0.0);
     for (const std::uint32_t p : sc.grid.owned(b)) {
-      const double xi[3] = {sc.x[p] * sc.inv_h, sc.y[p] * sc.inv_h, sc.z[p] * sc.inv_h};
-      Stencil<Shape> st;
-      st.compute(xi, 0.5 * sc.size0[p] * sc.inv_h, sc.grid.coord(b));
+      const Stencil<Shape> st = row_stencil<Shape>(sc, p);  // the weights the kernel reads
       const double m = in.mass[p];
       const double q[4] = {m, m * in.vx[p], m * in.vy[p], m * in.vz[p]};
       double sg[6] = {}, mb[3] = {};
@@ -258,6 +307,42 @@ void check_p2g_scatter() {
   EXPECT_GT(nonzero, nn / 4);  // the comparison covered the scattered nodes
 }
 
+// p2g_lanes (the force scatter: mass, momentum, force) of every particle from its stored row read
+// in place (StoredStencil, the engine's path) and from the same row copied into a Stencil: the
+// scratch nodes must hold the same bits. Random point values, so that a misread weight shows.
+template <class Shape>
+void check_scatter_in_place() {
+  const Scene sc{Shape{}};
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> v(-1.0, 1.0);
+  auto copied_scratch = std::make_unique<P2GScratch>();
+  auto row_scratch = std::make_unique<P2GScratch>();
+  P2GScratch& a = *copied_scratch;
+  P2GScratch& b = *row_scratch;
+  for (std::uint32_t blk = 0; blk < sc.grid.shared_blocks(); ++blk) {
+    if (sc.grid.owned(blk).empty()) continue;
+    std::fill(a.q(0), a.q(0) + 8 * P2GScratch::kSize, 0.0);
+    std::fill(b.q(0), b.q(0) + 8 * P2GScratch::kSize, 0.0);
+    for (const std::uint32_t p : sc.grid.owned(blk)) {
+      P2GPoint pt{v(rng), v(rng), v(rng), v(rng)};
+      pt.sxx = v(rng), pt.syy = v(rng), pt.szz = v(rng);
+      pt.sxy = v(rng), pt.syz = v(rng), pt.sxz = v(rng);
+      pt.mbx = v(rng), pt.mby = v(rng), pt.mbz = v(rng);
+      const Stencil<Shape> copied = row_stencil<Shape>(sc, p);
+      p2g_lanes<true>(copied, pt, a);
+      p2g_lanes<true>(StoredStencil<Shape>(sc.stored(), p), pt, b);
+    }
+    for (int i = 0; i < 8 * P2GScratch::kSize; ++i) {
+      ASSERT_TRUE(same_bits(a.q(0)[i], b.q(0)[i])) << "block " << blk << " scratch " << i;
+    }
+  }
+}
+
+TEST(SimdScatter, StoredRowInPlaceMatchesTheCopiedStencil) {
+  check_scatter_in_place<GimpShape>();
+  check_scatter_in_place<BSpline2Shape>();
+  check_scatter_in_place<LinearShape>();
+}
 TEST(SimdScatter, ForceScatterMatchesScalarUGimp) {
   check_p2g_scatter<GimpShape, true>();
 }
