@@ -150,8 +150,8 @@ void BM_IdealGas_Hydro(benchmark::State& s) {
   run(s, k, 1.0, 2.5);
 }
 
-// The porosity stage (issue 29, kernels/porosity): eps-alpha (closed form) and P-alpha (40-step
-// bisection where a point compacts) on the Tillotson / hydro kernel above.
+// The porosity stage (issue 29, kernels/porosity): eps-alpha (closed form) and P-alpha (the ITP
+// root solve where a point compacts) on the Tillotson / hydro kernel above.
 void BM_Tillotson_Hydro_EpsAlpha(benchmark::State& s) {
   const auto por = porosity::Porous::eps_alpha({1.5, -1e-5, 0.98, 1.0, -0.1}, 2700.0);
   const constitutive::ComposedKernel<eos::Tillotson, strength::Hydro, damage::NoDamage,
@@ -168,7 +168,7 @@ void BM_Tillotson_Hydro_PAlpha(benchmark::State& s) {
 }
 
 // JBM09's two-stage curve with pumice's fit (data/materials.toml `pumice`: alpha0 4.64, p_e 1 MPa,
-// p_t 68 MPa, alpha_t 1.9, p_s 213 MPa, exponents 12 and 3: two pow per crush evaluation).
+// p_t 68 MPa, alpha_t 1.9, p_s 213 MPa, exponents 12 and 3: integer powers by products).
 void BM_Tillotson_Hydro_PAlphaTwoStage(benchmark::State& s) {
   porosity::PAlphaParams q;
   q.alpha0 = 4.64;

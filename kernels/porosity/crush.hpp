@@ -78,13 +78,37 @@ inline T eps_alpha_crush(const EpsAlphaParams& q, double alpha_x, double eps_c, 
 //   alpha(P) = 1 + (alpha_e - alpha_t) r_t^n + (alpha_t - 1) r_s^n2,
 //   r_t = (p_t - P)/(p_t - p_e) clamped to [0, 1], r_s = (p_s - P)/(p_s - p_e) clamped,
 // alpha_e at p_e, 1 + (alpha_t - 1) r_s^n2 from p_t on, 1 at p_s.
+// x^k for an integer k >= 1 by repeated squaring (k = 2: x * x; k = 12: four products), bit for
+// bit the same in every lane as in the scalar path.
+template <class T>
+inline T ipow(const T& x, unsigned k) {
+  T result(1.0), b = x;
+  for (;;) {
+    if (k & 1u) result *= b;
+    k >>= 1;
+    if (k == 0) return result;
+    b *= b;
+  }
+}
+
+// r^n on the crush curve: by products when n is a whole number up to 64 (the quadratic of JBM08,
+// the 12 and 3 of JBM09's pumice fit), a general pow otherwise; n is a material constant, so the
+// branch is taken once per call, never per lane.
+template <class T>
+inline T crush_power(const T& r, double n) {
+  if (n >= 1.0 && n <= 64.0 && n == static_cast<double>(static_cast<unsigned>(n))) {
+    return ipow(r, static_cast<unsigned>(n));
+  }
+  return simd::vpow(r, T(n));
+}
+
 template <class T>
 inline T p_alpha_crush(const PAlphaParams& q, const T& p) {
   using simd::vselect;
   auto ratio = [&](double top) {
     return simd::vmin(simd::vmax((top - p) * (1.0 / (top - q.p_e)), T(0.0)), T(1.0));
   };
-  auto power = [](const T& r, double n) { return n == 2.0 ? r * r : simd::vpow(r, T(n)); };
+  auto power = [](const T& r, double n) { return crush_power(r, n); };
   const T rs = ratio(q.p_s);
   T a;
   if (q.p_t > 0.0) {  // a material constant: one branch per call, never per lane

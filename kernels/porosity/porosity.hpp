@@ -14,8 +14,9 @@
 //                d alpha / d eps_V = alpha (1 - (c_e/c_s)^2) for eps_e < eps_V < 0, and c_e/c_s
 //                interpolated linearly in alpha from chi (at alpha0) to 1 (at alpha = 1).
 //     p_alpha:   alpha(P) of JBM08 Eq. 8 at the bulk pressure P = p_s(alpha rho, E) / alpha,
-//                solved for alpha by bisection (the crush curve and the EOS are coupled through
-//                P); sound speed JBM08 Eq. 9: c = c_s + (alpha - 1)/(alpha0 - 1) (c_e - c_s).
+//                solved for alpha by the ITP bracketing method (the crush curve and the EOS are
+//                coupled through P); sound speed JBM08 Eq. 9: c = c_s + (alpha - 1)/(alpha0 - 1)
+//                (c_e - c_s).
 // Compaction is irreversible: alpha never exceeds the value it had (alpha_new = min(alpha_old,
 // crush)), except in eps-alpha's reversible elastic regime. Both models choose per material, at
 // run time and per group (one branch per batch, no lane divergence): one policy type instead of
@@ -42,6 +43,9 @@
 // are read from miluphcuda's code, which implements JBM08, and the test checks our closed form
 // against its rate: tests/unit/materials/porosity_degradation_test.cpp.)
 
+#include <algorithm>
+#include <cmath>
+
 #include "constitutive/simd.hpp"
 #include "eos/eos_common.hpp"
 #include "porosity/crush.hpp"
@@ -61,9 +65,10 @@ class Porous {
  public:
   static constexpr bool kEnabled = true;
   static constexpr FieldSet kFields{Field::distension, Field::porosity, Field::compaction_heat};
-  // Bisection steps of the P-alpha solve: the bracket [1, alpha_old] shrinks to
-  // (alpha0 - 1) 2^-40, below 1e-12 for any alpha0 < 100.
-  static constexpr int kBisections = 40;
+  // The P-alpha solve (compact_p) stops when the bracket of the root is narrower than kTolerance
+  // in alpha (the 40 bisections it replaced left (alpha0 - 1) 2^-40: 4.5e-13 at alpha0 = 1.5,
+  // 3.3e-12 for pumice's 4.64).
+  static constexpr double kTolerance = 1e-12;
 
   // rho_s0: the reference density of the matrix EOS.
   static Porous eps_alpha(const EpsAlphaParams& q, double rho_s0) {
@@ -77,6 +82,13 @@ class Porous {
   static Porous p_alpha(const PAlphaParams& q) {
     Porous m(Model::p_alpha, q.alpha0);
     m.pa_ = q;
+    // ITP's constants (compact_p) for the widest bracket, [1, alpha0]: n_max = n_1/2 + n0 steps
+    // with n_1/2 = ceil(log2((alpha0 - 1) / kTolerance)) (bisection's count) and n0 = 1;
+    // kappa1 = 0.2 / (alpha0 - 1), the value Oliveira & Takahashi recommend.
+    const double w0 = std::max(q.alpha0 - 1.0, kTolerance);
+    m.itp_steps_ = static_cast<int>(std::ceil(std::log2(w0 / kTolerance))) + 1;
+    m.itp_scale_ = 0.5 * kTolerance * std::ldexp(1.0, m.itp_steps_);
+    m.itp_kappa1_ = 0.2 / w0;
     return m;
   }
 
@@ -186,23 +198,50 @@ class Porous {
 
   // JBM08: alpha = min(alpha_old, alpha(P(alpha))). h(a) = a - crush(p_s(a rho, e) / a) is <= 0
   // at a = 1 (the crush curve is >= 1) and > 0 at alpha_old where compaction is due; the root
-  // between is bracketed and bisected, and the end where h <= 0 is returned: a state that
-  // satisfies alpha <= crush(P(alpha)), so a reload to the same density does not compact again
-  // (over-compaction by at most (alpha0 - 1) 2^-40). Lanes that do not compact keep alpha_old,
-  // and a batch where none does skips the solve.
+  // between is bracketed, [lo, hi] with h(lo) <= 0 < h(hi), and found by the ITP method
+  // (Oliveira & Takahashi 2021, ACM TOMS 47(1) 5, Algorithm 1 with kappa2 = 2, n0 = 1): each step
+  // takes the false-position point of the bracket, moves it towards the midpoint by
+  // kappa1 (hi - lo)^2 (so that both ends close in, where plain false position keeps one for
+  // ever), and projects it into the ball about the midpoint that still meets the bisection's
+  // bound. Superlinear where h is smooth; where it is not (the crush curve's ends p_e, p_t, p_s;
+  // the EOS's region boundaries; Tillotson is discontinuous at rho_iv) never more steps than
+  // bisection plus one (itp_steps_). A lane stops when its bracket is narrower than kTolerance or
+  // it hits h = 0, and is frozen from then on: its result does not depend on the other lanes of
+  // its batch (the SIMD and scalar paths agree bit for bit). The end where h <= 0 is returned: a
+  // state that satisfies alpha <= crush(P(alpha)), so a reload to the same density does not
+  // compact again (over-compaction by at most kTolerance). Lanes that do not compact keep
+  // alpha_old, and a batch where none does skips the solve. (Sessions 14-15 bisected 40 times:
+  // the same root to round-off; docs/validation-porosity.md, "Session 16: cost of the P-alpha
+  // solve".)
   template <class Eos, class T>
   T compact_p(const Eos& eos, const T& rho, const T& e, const T& alpha_old) const {
+    using simd::vselect;
     auto h = [&](const T& a) { return a - p_alpha_crush(pa_, eos.evaluate(a * rho, e).p / a); };
-    const auto need = h(alpha_old) > 0.0;
+    T hi = alpha_old, h_hi = h(hi);
+    const auto need = h_hi > 0.0;
     if (!simd::any(need)) return alpha_old;
-    T lo(1.0), hi = alpha_old;
-    for (int i = 0; i < kBisections; ++i) {
-      const T mid = 0.5 * (lo + hi);
-      const auto above = h(mid) > 0.0;
-      hi = simd::vselect(above, mid, hi);
-      lo = simd::vselect(above, lo, mid);
+    T lo(1.0), h_lo = h(lo);
+    auto done = !need || h_lo >= 0.0;  // h(1) = 0: compacted in full, alpha = 1 is the root
+    double r_scale = itp_scale_;       // eps 2^(n_max - j): the projection's radius plus w/2
+    for (int j = 0; j < itp_steps_ && simd::any(!done); ++j, r_scale *= 0.5) {
+      const T w = hi - lo, mid = 0.5 * (lo + hi);
+      const T x_f = (lo * h_hi - hi * h_lo) / (h_hi - h_lo);  // false position
+      const T sigma = vselect(mid >= x_f, T(1.0), T(-1.0));
+      const T delta = itp_kappa1_ * w * w;  // truncation towards the midpoint
+      const T x_t = vselect(delta <= simd::vabs(mid - x_f), x_f + sigma * delta, mid);
+      const T r = r_scale - 0.5 * w;  // projection onto the bisection's ball
+      T x = vselect(simd::vabs(x_t - mid) <= r, x_t, mid - sigma * r);
+      x = vselect((x > lo) && (x < hi), x, mid);  // round-off at the ends
+      const T hx = h(x);
+      const auto move_hi = (hx > 0.0) && !done;
+      const auto move_lo = !(hx > 0.0) && !done;
+      hi = vselect(move_hi, x, hi);
+      h_hi = vselect(move_hi, hx, h_hi);
+      lo = vselect(move_lo, x, lo);
+      h_lo = vselect(move_lo, hx, h_lo);
+      done = done || (hi - lo <= kTolerance) || (hx == 0.0);
     }
-    return simd::vselect(need, lo, alpha_old);
+    return vselect(need, lo, alpha_old);
   }
 
   // x^(1/3) for x > 0
@@ -219,6 +258,8 @@ class Porous {
   EpsAlphaParams ea_{};
   double alpha_x_ = 1.0, eps_c_ = 0.0, rho00_ = 1.0;
   PAlphaParams pa_{};
+  int itp_steps_ = 0;  // ITP's n_max, its radius scale eps 2^n_max and kappa1 (p_alpha above)
+  double itp_scale_ = 0.0, itp_kappa1_ = 0.0;
 };
 
 }  // namespace shatter::porosity

@@ -125,6 +125,60 @@ TEST(PorosityCompaction, PAlphaStateLiesOnTheCrushCurve) {
   EXPECT_GT(p, 1e6);
 }
 
+// The P-alpha solve (Porous::compact_p, ITP) over states of compression, tension, and the
+// Tillotson vapour boundary rho_iv (where p jumps, so h(a) = a - crush(P(a)) has no root, only a
+// sign change): the returned alpha is the lower end of a bracket of the sign change no wider
+// than Porous::kTolerance, h(alpha) <= 0 < h(alpha + kTolerance) (checked with h written out
+// here), for JBM08's quadratic curve and JBM09's two-stage pumice curve with its integer
+// exponents 12 and 3 (crush_power by products). The bound is the solver's own tolerance: it is
+// what the 40 bisections it replaced guaranteed to within a factor 3 (docs/validation-porosity.md,
+// "Cost of the P-alpha solve").
+TEST(PorosityCompaction, PAlphaSolveBracketsTheSignChangeWithinItsTolerance) {
+  PAlphaParams two{4.64, 1e6, 2.13e8, 12.0, 0.0};
+  two.p_t = 6.8e7;
+  two.alpha_t = 1.9;
+  two.n2 = 3.0;
+  int compacted = 0;
+  for (const PAlphaParams& q : {PAlphaParams{1.5, 1e6, 1e9, 2.0, 0.0}, two}) {
+    const Porous m = Porous::p_alpha(q);
+    auto h = [&](double a, double rho, double e) {
+      return a - porosity::p_alpha_crush(q, kBasalt.evaluate(a * rho, e).p / a);
+    };
+    for (int i = 1; i < 20; ++i) {
+      for (int j = 0; j < 12; ++j) {
+        for (double e : {0.0, 2e5, 3e6}) {
+          const double a_old = 1.0 + (q.alpha0 - 1.0) * i / 20.0;
+          const double rho = 2700.0 / a_old * (0.7 + 0.05 * j);  // matrix at 0.7 .. 1.25 rho0
+          const double a = m.compact(kBasalt, rho, rho, e, a_old);
+          if (a == a_old) {
+            EXPECT_LE(h(a_old, rho, e), 0.0);  // no compaction due
+            continue;
+          }
+          ++compacted;
+          ASSERT_LT(a, a_old);
+          EXPECT_LE(h(a, rho, e), 0.0) << "a_old " << a_old << " rho " << rho << " e " << e;
+          if (a > 1.0) {
+            EXPECT_GT(h(a + Porous::kTolerance, rho, e), 0.0)
+                << "a_old " << a_old << " rho " << rho << " e " << e << " a " << a;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(compacted, 500);  // most states compact: the check is not vacuous
+}
+
+TEST(PorosityCrush, IntegerExponentsByProductsMatchPow) {
+  // 1e-15 relative: four products (n = 12) or two (n = 3) against libm's pow, each within an
+  // ulp or so of the exact power.
+  for (double r = 0.0; r <= 1.0; r += 1.0 / 64.0) {
+    for (double n : {1.0, 2.0, 3.0, 12.0}) {
+      EXPECT_NEAR(porosity::crush_power(r, n), std::pow(r, n), 1e-15 * std::pow(r, n)) << r;
+    }
+    EXPECT_EQ(porosity::crush_power(r, 2.0), r * r);  // JBM08's quadratic: bit for bit as before
+  }
+}
+
 // --- through make_material and the particle store -----------------------------------------
 
 constexpr FieldSet kEngine{Field::mass,    Field::rho,      Field::energy,     Field::sxx,
