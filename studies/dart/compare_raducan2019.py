@@ -11,7 +11,12 @@ beside the row of docs/figures/dart/raducan2019_beta.csv (studies/dart/raducan20
 With --plot FILE.png (matplotlib) beta_launch(t) of each run with the reference's final beta and
 fast-ejecta beta as lines; with --csv FILE the table.
 
-Usage: compare_raducan2019.py REFERENCE.csv RUN=1e4:20:0.6 [RUN=...] [--plot F.png] [--csv F.csv]
+With RUN=C:P:F:CPPR:CPU_S the run's resolution and CPU seconds go into the table too; the plot's
+second panel shows each run's time step dt(t) (the EOS-following shear modulus keeps it from
+collapsing in expanded ejecta; docs/validation-dart.md).
+
+Usage: compare_raducan2019.py REFERENCE.csv RUN=1e4:20:0.6[:CPPR:CPU_S] [RUN=...] [--plot F.png]
+       [--csv F.csv]
 """
 
 import argparse
@@ -30,8 +35,8 @@ def read_reference(path):
 
 def read_run(run):
     with open(os.path.join(run, "timeseries.csv")) as f:
-        ts = [(float(r["time_s"]), float(r["beta_launch"])) for r in csv.DictReader(f)
-              if r.get("beta_launch")]
+        ts = [(float(r["time_s"]), float(r["beta_launch"]), float(r["dt_s"]))
+              for r in csv.DictReader(f) if r.get("beta_launch") and r.get("wall_s")]
     path = os.path.join(run, "ejecta_launch.csv")
     with open(path) as f:
         meta = dict(kv.split("=") for kv in f.readline().lstrip("# ").split())
@@ -43,7 +48,7 @@ def read_run(run):
 
 def measures(run):
     ts, m_imp, u, launches = read_run(run)
-    t_end, b_end = ts[-1]
+    t_end, b_end = ts[-1][:2]
     b_fifth = min(ts, key=lambda r: abs(r[0] - 0.8 * t_end))[1]
     out = {"t_end_s": t_end, "beta_launch": b_end, "drift_last_fifth": b_end - b_fifth}
     for q in Q:
@@ -67,12 +72,15 @@ def main():
     table, curves = [], []
     for spec in args.runs:
         run, point = spec.rsplit("=", 1)
-        key = tuple(float(v) for v in point.split(":"))
+        fields = [float(v) for v in point.split(":")]
+        key = tuple(fields[:3])
         r = ref[key]
         ours, ts = measures(run)
         row = {"run": os.path.basename(run.rstrip("/")), "cohesion_Pa": key[0],
-               "porosity_pct": key[1], "friction": key[2], **ours,
-               "isale_beta": float(r["beta"])}
+               "porosity_pct": key[1], "friction": key[2]}
+        if len(fields) == 5:
+            row.update({"cppr": fields[3], "cpu_s": fields[4]})
+        row.update({**ours, "isale_beta": float(r["beta"])})
         for q in Q:
             row[f"isale_beta_gt_{q:g}U"] = float(r[f"beta_gt_{q:g}U"])
             row[f"isale_M_gt_{q:g}U_over_mimp"] = float(r[f"M_gt_{q:g}U_over_mimp"])
@@ -99,15 +107,19 @@ def plot(curves, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, (ax, ax_dt) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True,
+                                    gridspec_kw={"height_ratios": [3, 1]})
     for i, (row, ts) in enumerate(curves):
         colour = f"C{i}"
         label = f"{row['cohesion_Pa'] / 1e3:g} kPa, {row['porosity_pct']:g}%, f {row['friction']:g}"
-        ax.plot([t * 1e3 for t, _ in ts], [b for _, b in ts], colour,
+        ax.plot([r[0] * 1e3 for r in ts], [r[1] for r in ts], colour,
                 label=f"{row['run']}: {label}")
         ax.axhline(row["isale_beta_gt_0.01U"], color=colour, ls="--", lw=1)
         ax.axhline(row["isale_beta"], color=colour, ls=":", lw=1)
-    ax.set_xlabel("t (ms)")
+        ax_dt.plot([r[0] * 1e3 for r in ts], [r[2] for r in ts], colour, lw=0.8)
+    ax_dt.set_yscale("log")
+    ax_dt.set_ylabel("dt (s)")
+    ax_dt.set_xlabel("t (ms)")
     ax.set_ylabel("beta_launch")
     ax.set_title("r-z MPM vs iSALE (Raducan et al. 2019): -- ejecta > 0.01 U, : all (final)",
                  fontsize=9)
