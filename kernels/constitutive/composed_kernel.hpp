@@ -18,6 +18,10 @@
 //  8. Energy corrector E^{n+1} = E^n + deps : (sigma^n + sigma^{n+1})/2 / rho (A.2 step 7).
 //  9. Sound speed for the time step (Eq. 34): Eq. 13 with the shear stiffness the next step's
 //     stress will have ((1-D) G where Eq. 14 scales the deviator).
+// With the material key shear_from_eos (strength::ElasticConstants::from_eos) G and K are the
+// point's: scaled by m = rho c_K^2 / K at (rho^{n+1}, E*) of step 3, so the elastic trial of
+// step 1 is made after the EOS; every use of G and K (trial, return, damage's E_Y, Eq. 13) takes
+// m. With constant moduli m = 1 exactly and the arithmetic is that of the constants.
 //
 // Strength models whose yield surface already carries D (modified Lundborg Eq. 4, Lundborg /
 // Collins Eqs. 47-49; they declare kDamageInYield) return a deviator that is the damaged rock's
@@ -169,7 +173,8 @@ class ComposedKernel {
       effective_stress(s, e.p, 0.0, D, deviator_factor(D) * porous_deviator_factor(alpha), sig);
       for (int k = 0; k < 6; ++k) c.stress[k][p] = sig[k];
       c.pressure[p] = e.p;
-      c.soundspeed[p] = longitudinal_speed(e.c2, rho, shear_fraction(D, e.p, ps));
+      const double m = strength_.elastic.modulus_scale(rho, e.c2);
+      c.soundspeed[p] = longitudinal_speed(e.c2, rho, m, shear_fraction(D, e.p, ps));
     }
   }
 
@@ -179,10 +184,12 @@ class ComposedKernel {
   // its shear term grows like 1/rho as it expands (39 km/s for basalt at rho = 20 kg/m^3) and
   // sets a needlessly short step. The bulk term stays whole: in compression Eq. 14 keeps p; in
   // tension p* = (1 - D) p would lower c_K too, and keeping the intact c_K there only errs on
-  // the safe (shorter-step) side.
+  // the safe (shorter-step) side. m is the point's modulus scale (1, or rho c_K^2 / K with the
+  // EOS-following moduli: then 4 G m / (3 rho) = c_K^2 2 (1 - 2 nu) / (1 + nu), and expanded
+  // ejecta, whose c_K falls, no longer carry the P-wave speed of the solid's G at 1% of rho0).
   template <class T>
-  T longitudinal_speed(const T& c2, const T& rho, const T& shear = T(1.0)) const {
-    return simd::vsqrt(c2 + (4.0 / 3.0) * strength_.elastic.G * shear / rho);
+  T longitudinal_speed(const T& c2, const T& rho, const T& m, const T& shear = T(1.0)) const {
+    return simd::vsqrt(c2 + (4.0 / 3.0) * strength_.elastic.G * shear * m / rho);
   }
 
   // Factor on the stored deviator in the effective stress (Eq. 14) at damage D: (1 - D), except
@@ -221,6 +228,7 @@ class ComposedKernel {
     T alpha = T(1.0);  // distension (porosity stage; 1 without porosity)
     T a_old = T(1.0);  // the distension at the step's start
     T d_c = T(0.0);    // compaction damage D_c(alpha) (kernels/porosity; 0 when off)
+    T m = T(1.0);      // modulus scale at (rho^{n+1}, E*) (ElasticConstants::modulus_scale)
     T de[6], w[3], sig_old[6];
     T s[6];                                                      // undamaged deviator
     T sb[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};  // borne (incremental)
@@ -231,6 +239,8 @@ class ComposedKernel {
     Point<T> pt;
     trial_stage(c, p, pt);
     const auto st_eos = eos_stage(c, p, pt);
+    pt.m = strength_.elastic.modulus_scale(pt.rho, st_eos.c2);
+    deviator_trial(pt);
     strength::PlasticState<T> ps = plastic_stage(c, p, pt, st_eos);
     const T pres = ps.p;
 
@@ -238,7 +248,7 @@ class ComposedKernel {
     // tip running through the intact matrix between the cracks (BA95 Sec. 3), not a property of
     // the damaged particle as a whole; with (1 - D) G a particle's cracks would slow down as it
     // fails (to 0.4 c_K at D = 1), a feedback the Grady-Kipp model does not have.
-    const T cp = longitudinal_speed(st_eos.c2, pt.rho);
+    const T cp = longitudinal_speed(st_eos.c2, pt.rho, pt.m);
 
     // 5. Artificial viscosity with the longitudinal speed c_p of Eq. 13: the paper's Sec. 3.2
     // lists "the calculation of artificial viscosity used to capture shock fronts" among the uses
@@ -247,7 +257,8 @@ class ComposedKernel {
     // viscosity damps; for intact material that is Eq. 13 itself. Before issue 11 shatter used
     // the bulk c_K here (docs/validation-lab-impact.md measures the difference).
     const double inv_dt = sp.dt > 0.0 ? 1.0 / sp.dt : 0.0;
-    const T c_visc = longitudinal_speed(st_eos.c2, pt.rho, shear_fraction(pt.d_old, pres, ps));
+    const T c_visc =
+        longitudinal_speed(st_eos.c2, pt.rho, pt.m, shear_fraction(pt.d_old, pres, ps));
     const auto av = artificial_viscosity(pt.tr, inv_dt, sp.cell_size, pt.rho, c_visc, sp.c_linear,
                                          sp.c_quadratic);
 
@@ -258,9 +269,9 @@ class ComposedKernel {
     // 9. Eq. 13 with the shear stiffness of the next step's stress update, which every coupling
     // takes at D^{n+1}, for the time step (Eq. 34): D never decreases, so that step's stress is
     // no stiffer than this.
-    const T cp_damaged = Damage::kEnabled
-                             ? longitudinal_speed(st_eos.c2, pt.rho, shear_fraction(dmg, pres, ps))
-                             : cp;
+    const T cp_damaged = Damage::kEnabled ? longitudinal_speed(st_eos.c2, pt.rho, pt.m,
+                                                               shear_fraction(dmg, pres, ps))
+                                          : cp;
     simd::store_col(c.pressure + p, pres);
     simd::store_col(c.soundspeed + p, cp_damaged + av.speed);
     simd::store_if(ptr(c.plastic_strain, p), ps.eps_p);
@@ -268,7 +279,8 @@ class ComposedKernel {
   }
 
  private:
-  // Loads the point; 1. Jaumann rotation + elastic trial; 2. energy predictor.
+  // Loads the point (and the borne deviator sb); 2. energy predictor. The elastic trial (1.)
+  // follows the EOS stage (deviator_trial), where the point's moduli are known.
   template <class T>
   void trial_stage(const ConstitutiveColumns& c, std::size_t p, Point<T>& pt) const {
     using simd::load_col;
@@ -283,17 +295,14 @@ class ComposedKernel {
     }
     pt.d_old = simd::load_or<T>(ptr(c.damage_state[0], p), 0.0);
 
-    // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37). With incremental coupling the
-    // deviator the particle bears, sb (that of the stress columns: q and p are isotropic), gets
-    // its own trial whose increment has the shear modulus (1 - D^n) G (MPM3D-F90,
-    // DamageCoupling::incremental); s stays the undamaged deviator the damage policy reads.
+    // With incremental coupling the deviator the particle bears, sb (that of the stress
+    // columns: q and p are isotropic), gets its own trial (deviator_trial); loaded here, with
+    // the distension of the step's start.
     if constexpr (Strength::kHasShear) {
-      strength::jaumann_trial(pt.s, pt.de, pt.w, strength_.elastic.G);
       if (incremental()) {
         const T m = (pt.sig_old[0] + pt.sig_old[1] + pt.sig_old[2]) * (1.0 / 3.0);
         for (int k = 0; k < 6; ++k) pt.sb[k] = k < 3 ? pt.sig_old[k] - m : pt.sig_old[k];
         if constexpr (Porosity::kEnabled) to_matrix(pt.sb, simd::load_col<T>(c.distension + p));
-        strength::jaumann_trial(pt.sb, pt.de, pt.w, T(strength_.elastic.G) * (1.0 - pt.d_old));
       }
     }
 
@@ -306,6 +315,20 @@ class ComposedKernel {
     pt.rho_old = pt.rho * (1.0 + pt.tr);
     pt.w_old = double_contraction(pt.de, pt.sig_old);
     pt.e_trial = pt.e_old + pt.w_old / pt.rho_old;
+  }
+
+  // 1. Jaumann rotation + elastic trial (Eqs. 22, 35-37) with the point's shear modulus G m.
+  // With incremental coupling sb's increment has the shear modulus (1 - D^n) G m (MPM3D-F90,
+  // DamageCoupling::incremental); s stays the undamaged deviator the damage policy reads.
+  template <class T>
+  void deviator_trial(Point<T>& pt) const {
+    if constexpr (Strength::kHasShear) {
+      const T g = strength_.elastic.G * pt.m;
+      strength::jaumann_trial(pt.s, pt.de, pt.w, g);
+      if (incremental()) strength::jaumann_trial(pt.sb, pt.de, pt.w, g * (1.0 - pt.d_old));
+    } else {
+      (void)pt;
+    }
   }
 
   // 3. EOS (Eqs. 8-12) at (rho^{n+1}, E*); with porosity, compaction of the distension first and
@@ -352,7 +375,8 @@ class ComposedKernel {
                                  with_compaction(pt.d_old, pt.d_c),
                                  pt.rho,
                                  pt.e_trial,
-                                 T(0.0)};
+                                 T(0.0),
+                                 pt.m};
     if constexpr (Strength::kHasShear) {
       if (incremental()) {
         // The borne deviator returns to the same yield surface (at D^n); the pressure, plastic
@@ -382,7 +406,7 @@ class ComposedKernel {
       damage::DamageInput<T> in;
       for (int k = 0; k < 6; ++k) in.s[k] = pt.s[k];
       for (int k = 0; k < 3; ++k) in.s[k] = in.s[k] - ps.p;
-      in.young = T(strength_.elastic.young);
+      in.young = T(strength_.elastic.young) * pt.m;  // E_Y m: the point's Young's modulus
       in.soundspeed = cp;
       in.volume = simd::load_or<T>(ptr(c.mass, p), 0.0) / pt.rho;
       if constexpr (Porosity::kEnabled) in.volume = in.volume / pt.alpha;

@@ -29,8 +29,8 @@ struct DruckerPrager {
 
   template <class T>
   void return_map(T (&s)[6], PlasticState<T>& st) const {
-    const double G = elastic.G;
-    const double K = elastic.K;
+    const T G = elastic.G * st.modulus;  // the point's moduli (PlasticState::modulus)
+    const T K = elastic.K * st.modulus;
     const T p_trial = st.p;
     const T tau_trial = vsqrt(j2(s));
 

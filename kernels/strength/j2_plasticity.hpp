@@ -21,11 +21,12 @@ struct J2Plasticity {
 
   template <class T>
   void return_map(T (&s)[6], PlasticState<T>& st) const {
+    const T G = elastic.G * st.modulus;         // the point's shear modulus (PlasticState)
     const T sbar = vsqrt(3.0 * j2(s));          // sigma_bar* = sqrt(3 J2*) (Eq. 41)
     const T f = sbar - yield_stress(st.eps_p);  // Eq. 41 at the trial state
-    const T deps = vmax(f, T(0.0)) / (3.0 * elastic.G + plastic_modulus);  // Eq. 43
+    const T deps = vmax(f, T(0.0)) / (3.0 * G + plastic_modulus);  // Eq. 43
     // s = s* (sigma_bar* - 3G deps)/sigma_bar*, equal to sigma_Y^{n+1}/sigma_bar* (Eq. 42).
-    const T ratio = 1.0 - 3.0 * elastic.G * deps / vmax(sbar, T(kTinyStress));
+    const T ratio = 1.0 - 3.0 * G * deps / vmax(sbar, T(kTinyStress));
     scale(s, ratio);
     st.deps_p = deps;
     st.eps_p = st.eps_p + deps;

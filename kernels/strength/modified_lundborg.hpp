@@ -76,7 +76,7 @@ struct ModifiedLundborg {
 
   template <class T>
   void return_map(T (&s)[6], PlasticState<T>& st) const {
-    const double G = elastic.G;
+    const T G = elastic.G * st.modulus;  // the point's shear modulus (PlasticState::modulus)
     const T tau_trial = vsqrt(j2(s));
     const T p_trial = st.p;
     // Dilatancy is shear-induced bulking against a confining pressure, so Eq. 5b acts only for
@@ -84,7 +84,7 @@ struct ModifiedLundborg {
     // (Y = 0 in tension) would turn all of each step's shear into K q_psi dlambda of compression:
     // free-flying debris at 1% of rho0 reached +1 GPa, expanded under it to E = -4e7 J/kg and
     // shot out at 9 km/s (lab impact, Y0 = 10 MPa, 97 us; docs/materials.md).
-    const T kq = vselect(p_trial > 0.0, T(elastic.K * dilatancy), T(0.0));
+    const T kq = vselect(p_trial > 0.0, T(elastic.K * dilatancy) * st.modulus, T(0.0));
     const T melt = melt_factor(st.heat);
     const T dl_max = tau_trial / G;  // tau >= 0 bounds the multiplier
 

@@ -23,7 +23,9 @@ bool has_any_elastic_key(const MaterialSpec& s) {
   return has(s, "young") || has(s, "poisson") || has(s, "shear_modulus");
 }
 
-strength::ElasticConstants elastic_constants(const MaterialSpec& spec) {
+namespace {
+// The constants as given: (young, poisson) or (shear_modulus, bulk_modulus).
+strength::ElasticConstants given_constants(const MaterialSpec& spec) {
   if (has(spec, "young") || has(spec, "poisson")) {
     if (!has(spec, "young")) fail(spec, "young", "is missing (given with poisson)");
     if (!has(spec, "poisson")) fail(spec, "poisson", "is missing (given with young)");
@@ -47,6 +49,16 @@ strength::ElasticConstants elastic_constants(const MaterialSpec& spec) {
     fail(spec, "shear_modulus",
          fmt::format("= {} gives a negative Poisson ratio {} with bulk_modulus {}", g, nu, k));
   return {9.0 * k * g / (3.0 * k + g), nu, g, k};
+}
+
+}  // namespace
+
+strength::ElasticConstants elastic_constants(const MaterialSpec& spec) {
+  strength::ElasticConstants el = given_constants(spec);
+  // shear_from_eos = 1: G and K follow the EOS's bulk modulus at this Poisson ratio
+  // (kernels/strength/strength_common.hpp, ElasticConstants::from_eos).
+  el.from_eos = has(spec, "shear_from_eos") && spec.get("shear_from_eos") == 1.0;
+  return el;
 }
 
 }  // namespace shatter::materials

@@ -19,7 +19,7 @@ namespace {
 
 struct Eval {
   materials::AnyEos eos;
-  double shear = 0.0;
+  strength::ElasticConstants elastic{};  // G = 0 for hydro
 
   eos::EosPoint<double> operator()(double rho, double e) const {
     return std::visit([&](const auto& m) { return m.evaluate(rho, e); }, eos);
@@ -29,8 +29,8 @@ struct Eval {
 Eval make_eval(const MaterialSpec& spec) {
   validate(spec);
   const auto s = materials::make_strength(spec);
-  const double g = std::visit([](const auto& m) { return m.elastic.G; }, s);
-  return {materials::make_eos(spec), g};
+  const auto el = std::visit([](const auto& m) { return m.elastic; }, s);
+  return {materials::make_eos(spec), el};
 }
 
 double reference_density(const Eval& ev) {
@@ -47,7 +47,9 @@ EosSample probe_eos(const MaterialSpec& spec, double rho, double energy) {
   out.energy = energy;
   out.pressure = pt.p;
   out.bulk_speed = std::sqrt(pt.c2);
-  out.soundspeed = std::sqrt(pt.c2 + 4.0 * ev.shear / (3.0 * rho));  // Eq. 13
+  // Eq. 13 with the point's G (constant, or following the EOS: ElasticConstants::modulus_scale)
+  const double g = ev.elastic.G * ev.elastic.modulus_scale(rho, pt.c2);
+  out.soundspeed = std::sqrt(pt.c2 + 4.0 * g / (3.0 * rho));
   if (const auto* t = std::get_if<eos::Tillotson>(&ev.eos)) {
     out.region = eos::name_of(t->region(rho, energy));
   } else {

@@ -19,10 +19,10 @@ namespace {
 
 using materials::ModelSchema;
 
-// Keys every material may carry besides those of its models: the reference density and the two
-// ways of giving the elastic constants.
-constexpr std::string_view kCommonKeys[] = {"rho0", "young", "poisson", "shear_modulus",
-                                            "bulk_modulus"};
+// Keys every material may carry besides those of its models: the reference density, the two
+// ways of giving the elastic constants and whether those follow the EOS (shear_from_eos).
+constexpr std::string_view kCommonKeys[] = {"rho0",          "young",        "poisson",
+                                            "shear_modulus", "bulk_modulus", "shear_from_eos"};
 
 [[noreturn]] void fail(const MaterialSpec& spec, std::string_view key, const std::string& why) {
   throw MaterialError(fmt::format("material '{}': '{}' {}", spec.name, key, why), std::string(key));
@@ -116,6 +116,20 @@ void check_strength(const MaterialSpec& spec, const Checker& c) {
   const std::string& s = spec.strength;
   // Elastic constants: needed by every model with shear; optional for hydro (damage uses them).
   if (s != "hydro" || materials::has_any_elastic_key(spec)) materials::elastic_constants(spec);
+  // shear_from_eos: 0 (constant G, the default) or 1 (G from the EOS's bulk modulus at the
+  // Poisson ratio of the elastic constants; docs/materials.md, "Shear modulus from the EOS").
+  if (c.has("shear_from_eos")) {
+    const double v = c.value("shear_from_eos");
+    if (v != 0.0 && v != 1.0) {
+      fail(spec, "shear_from_eos",
+           fmt::format("= {} must be 0 (constant shear modulus) or 1 (G from the EOS's bulk "
+                       "modulus at the Poisson ratio)",
+                       v));
+    }
+    if (v == 1.0 && s == "hydro") {
+      fail(spec, "shear_from_eos", "= 1 needs a strength model with shear (strength is 'hydro')");
+    }
+  }
   if (s == "von_mises" || s == "benz_asphaug" || s == "linear_hardening") {
     c.positive("yield");
     c.non_negative("plastic_modulus");

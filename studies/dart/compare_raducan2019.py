@@ -11,7 +11,18 @@ beside the row of docs/figures/dart/raducan2019_beta.csv (studies/dart/raducan20
 With --plot FILE.png (matplotlib) beta_launch(t) of each run with the reference's final beta and
 fast-ejecta beta as lines; with --csv FILE the table.
 
-Usage: compare_raducan2019.py REFERENCE.csv RUN=1e4:20:0.6 [RUN=...] [--plot F.png] [--csv F.csv]
+With RUN=C:P:F:CPPR:CPU_S the run's resolution and CPU seconds go into the table too; the plot's
+second panel shows each run's time step dt(t) (the EOS-following shear modulus keeps it from
+collapsing in expanded ejecta; docs/validation-dart.md).
+
+With --tracers PATH (a local copy of sr516/iSALE_ejecta_data; CC BY-NC-SA, read, never copied)
+also the beta of the ejecta launched within radius X of the axis, ours (launch_radius_m) and
+theirs (the tracers' launch distance x), at X = 1, 2, ... m up to our farthest launch: a run that
+stops while the crater still grows has counted the inner ejecta completely and the outer ones not
+at all, and this compares the part it has (iSALE's ejection reaches x ~ 7 m at 10 kPa, 20%).
+
+Usage: compare_raducan2019.py REFERENCE.csv RUN=1e4:20:0.6[:CPPR:CPU_S] [RUN=...] [--plot F.png]
+       [--csv F.csv]
 """
 
 import argparse
@@ -30,30 +41,55 @@ def read_reference(path):
 
 def read_run(run):
     with open(os.path.join(run, "timeseries.csv")) as f:
-        ts = [(float(r["time_s"]), float(r["beta_launch"])) for r in csv.DictReader(f)
-              if r.get("beta_launch")]
+        ts = [(float(r["time_s"]), float(r["beta_launch"]), float(r["dt_s"]))
+              for r in csv.DictReader(f) if r.get("beta_launch") and r.get("wall_s")]
     path = os.path.join(run, "ejecta_launch.csv")
     with open(path) as f:
         meta = dict(kv.split("=") for kv in f.readline().lstrip("# ").split())
         launches = [(float(r["mass_kg"]), float(r["speed_m_per_s"]),
-                     float(r["normal_speed_m_per_s"]), float(r["launch_time_s"]))
+                     float(r["normal_speed_m_per_s"]), float(r["launch_time_s"]),
+                     float(r["launch_radius_m"]))
                     for r in csv.DictReader(f)]
     return ts, float(meta["impactor_mass_kg"]), float(meta["impact_speed_m_per_s"]), launches
 
 
 def measures(run):
     ts, m_imp, u, launches = read_run(run)
-    t_end, b_end = ts[-1]
+    t_end, b_end = ts[-1][:2]
     b_fifth = min(ts, key=lambda r: abs(r[0] - 0.8 * t_end))[1]
     out = {"t_end_s": t_end, "beta_launch": b_end, "drift_last_fifth": b_end - b_fifth}
     for q in Q:
-        fast = [(m, vn, t) for m, v, vn, t in launches if v > q * u and vn > 0.0]
+        fast = [(m, vn, t) for m, v, vn, t, _ in launches if v > q * u and vn > 0.0]
         out[f"beta_gt_{q:g}U"] = 1.0 + sum(m * vn for m, vn, _ in fast) / (m_imp * u)
         # its drift over the last fifth: the same sum over the launches before 0.8 t_end
         early = sum(m * vn for m, vn, t in fast if t <= 0.8 * t_end) / (m_imp * u)
         out[f"drift_gt_{q:g}U"] = out[f"beta_gt_{q:g}U"] - 1.0 - early
         out[f"M_gt_{q:g}U_over_mimp"] = sum(m for m, _, _ in fast) / m_imp
-    return out, ts
+    out["launch_radius_max_m"] = max((x for *_, x in launches), default=0.0)
+    return out, ts, (m_imp, u, launches)
+
+
+def within_radius(ours, tracer_csv):
+    """beta of the ejecta launched within X of the axis, ours and theirs, X = 1 m, 2 m, ..."""
+    m_imp, u, launches = ours
+    import numpy as np
+    d = np.genfromtxt(tracer_csv, delimiter=",", names=True)
+    m_isale = 4.0 / 3.0 * np.pi * 0.42**3 * 1000.0  # raducan2019_beta.py: a, delta
+    out = []
+    x_max = max((x for *_, x in launches), default=0.0)
+    for X in range(1, int(x_max) + 1):
+        b_ours = 1.0 + sum(m * vn for m, v, vn, _, x in launches if x <= X) / (m_imp * u)
+        sel = d["x"] <= X
+        b_isale = 1.0 + float(np.sum(d["m"][sel] * d["v_y"][sel])) / (m_isale * 7000.0)
+        out.append((X, b_ours, b_isale))
+    return out
+
+
+def tracer_file(root, cohesion, porosity):
+    import glob
+    name = f"Yd1e{round(__import__('math').log10(cohesion))}-{porosity:g}.csv"
+    hits = sorted(glob.glob(os.path.join(root, "Porosity", "*", name)))
+    return hits[0] if hits else None
 
 
 def main():
@@ -62,21 +98,28 @@ def main():
     ap.add_argument("runs", nargs="+", help="RUN=COHESION_PA:POROSITY_PCT:FRICTION")
     ap.add_argument("--plot")
     ap.add_argument("--csv")
+    ap.add_argument("--tracers", help="local copy of sr516/iSALE_ejecta_data")
     args = ap.parse_args()
     ref = read_reference(args.reference)
     table, curves = [], []
     for spec in args.runs:
         run, point = spec.rsplit("=", 1)
-        key = tuple(float(v) for v in point.split(":"))
+        fields = [float(v) for v in point.split(":")]
+        key = tuple(fields[:3])
         r = ref[key]
-        ours, ts = measures(run)
+        ours, ts, launches = measures(run)
         row = {"run": os.path.basename(run.rstrip("/")), "cohesion_Pa": key[0],
-               "porosity_pct": key[1], "friction": key[2], **ours,
-               "isale_beta": float(r["beta"])}
+               "porosity_pct": key[1], "friction": key[2]}
+        if len(fields) == 5:
+            row.update({"cppr": fields[3], "cpu_s": fields[4]})
+        row.update({**ours, "isale_beta": float(r["beta"])})
         for q in Q:
             row[f"isale_beta_gt_{q:g}U"] = float(r[f"beta_gt_{q:g}U"])
             row[f"isale_M_gt_{q:g}U_over_mimp"] = float(r[f"M_gt_{q:g}U_over_mimp"])
         table.append(row)
+        if args.tracers and tracer_file(args.tracers, key[0], key[1]):
+            for X, b_o, b_i in within_radius(launches, tracer_file(args.tracers, key[0], key[1])):
+                print(f"{row['run']}: launched within {X} m: beta ours {b_o:.3f}, iSALE {b_i:.3f}")
         curves.append((row, ts))
     keys = list(table[0].keys())
     for r in table:
@@ -99,15 +142,19 @@ def plot(curves, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, (ax, ax_dt) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True,
+                                    gridspec_kw={"height_ratios": [3, 1]})
     for i, (row, ts) in enumerate(curves):
         colour = f"C{i}"
         label = f"{row['cohesion_Pa'] / 1e3:g} kPa, {row['porosity_pct']:g}%, f {row['friction']:g}"
-        ax.plot([t * 1e3 for t, _ in ts], [b for _, b in ts], colour,
+        ax.plot([r[0] * 1e3 for r in ts], [r[1] for r in ts], colour,
                 label=f"{row['run']}: {label}")
         ax.axhline(row["isale_beta_gt_0.01U"], color=colour, ls="--", lw=1)
         ax.axhline(row["isale_beta"], color=colour, ls=":", lw=1)
-    ax.set_xlabel("t (ms)")
+        ax_dt.plot([r[0] * 1e3 for r in ts], [r[2] for r in ts], colour, lw=0.8)
+    ax_dt.set_yscale("log")
+    ax_dt.set_ylabel("dt (s)")
+    ax_dt.set_xlabel("t (ms)")
     ax.set_ylabel("beta_launch")
     ax.set_title("r-z MPM vs iSALE (Raducan et al. 2019): -- ejecta > 0.01 U, : all (final)",
                  fontsize=9)
