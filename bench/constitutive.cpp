@@ -36,7 +36,7 @@ using namespace shatter;
 // each Tillotson region through a spread of density and energy).
 struct Columns {
   using Vec = std::vector<double, xsimd::aligned_allocator<double, 64>>;
-  Vec data[37];
+  Vec data[36];
   constitutive::ConstitutiveColumns c;
 
   Columns(std::size_t n, double rho0, double e_scale, bool damage = false) {
@@ -97,8 +97,7 @@ void run(benchmark::State& state, const Kernel& k, double rho0, double e_scale) 
       cols.data[0][i] *= 1.0 / cols.data[34][i];
     }
     cols.c.distension = cols.data[34].data();
-    cols.c.porosity = cols.data[35].data();
-    cols.c.compaction_heat = cols.data[36].data();
+    cols.c.compaction_heat = cols.data[35].data();
   }
   const constitutive::StepParams sp{1e-7, 1e-3, 0.5, 2.0};
   for (auto _ : state) {

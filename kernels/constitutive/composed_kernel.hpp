@@ -62,7 +62,6 @@ struct ConstitutiveColumns {
   // damage, eps_min, eps_max, n_flaws, weibull_m, n_active
   double* damage_state[6] = {};
   double* distension = nullptr;       // alpha = rho_s / rho (porosity on)
-  double* porosity = nullptr;         // 1 - 1/alpha (porosity on)
   double* compaction_heat = nullptr;  // booked compaction work, J/kg (porosity on)
   // r-z (issue 31): the points' radius x when each point is a ring about z, else null.
   const double* ring_radius = nullptr;
@@ -341,7 +340,6 @@ class ComposedKernel {
       simd::store_col(c.distension + p, pt.alpha);
       if constexpr (Damage::kEnabled) pt.d_c = porosity_.compaction_damage(pt.alpha);
       pt.a_old = a_old;
-      simd::store_col(c.porosity + p, 1.0 - 1.0 / pt.alpha);
       return porosity_.bulk(eos_, pt.rho, pt.e_trial, pt.alpha);
     } else {
       (void)c;
@@ -526,7 +524,6 @@ class ComposedKernel {
   eos::EosPoint<double> initial_eos(const ConstitutiveColumns& c, std::size_t p) const {
     if constexpr (Porosity::kEnabled) {
       if (!(c.distension[p] >= 1.0)) c.distension[p] = porosity_.alpha0();
-      c.porosity[p] = 1.0 - 1.0 / c.distension[p];
       return porosity_.bulk(eos_, c.rho[p], c.energy[p], c.distension[p]);
     } else {
       return eos_.evaluate(c.rho[p], c.energy[p]);

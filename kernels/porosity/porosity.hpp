@@ -64,7 +64,7 @@ enum class Model { eps_alpha, p_alpha };
 class Porous {
  public:
   static constexpr bool kEnabled = true;
-  static constexpr FieldSet kFields{Field::distension, Field::porosity, Field::compaction_heat};
+  static constexpr FieldSet kFields{Field::distension, Field::compaction_heat};
   // The P-alpha solve (compact_p) stops when the bracket of the root is narrower than kTolerance
   // in alpha (the 40 bisections it replaced left (alpha0 - 1) 2^-40: 4.5e-13 at alpha0 = 1.5,
   // 3.3e-12 for pumice's 4.64).

@@ -64,10 +64,28 @@ std::optional<IField> ifield_by_name(std::string_view name) {
   return std::nullopt;
 }
 
+std::optional<Derived> derived_by_name(std::string_view name) {
+  for (std::size_t i = 0; i < kDerivedCount; ++i) {
+    if (kDerivedNames[i] == name) return static_cast<Derived>(i);
+  }
+  return std::nullopt;
+}
+
+std::vector<double> derived_values(const ParticleStore& store, Derived d) {
+  const auto alpha = store.col(source_of(d));
+  std::vector<double> out(store.size());
+  // the porosity phi = 1 - 1/alpha (Derived::porosity, the only one)
+  for (std::size_t p = 0; p < out.size(); ++p) {
+    out[p] = alpha[p] >= 1.0 ? 1.0 - 1.0 / alpha[p] : 0.0;
+  }
+  return out;
+}
+
 std::vector<std::string> ColumnSelection::names() const {
   std::vector<std::string> out;
   for (Field f : fields) out.emplace_back(name_of(f));
   for (IField f : ifields) out.emplace_back(name_of(f));
+  for (Derived d : derived) out.emplace_back(name_of(d));
   return out;
 }
 
@@ -79,6 +97,9 @@ ColumnSelection all_columns(const ParticleStore& store) {
   for (std::size_t i = 0; i < kIFieldCount; ++i) {
     if (store.has(static_cast<IField>(i))) s.ifields.push_back(static_cast<IField>(i));
   }
+  for (std::size_t i = 0; i < kDerivedCount; ++i) {
+    if (store.has(source_of(static_cast<Derived>(i)))) s.derived.push_back(static_cast<Derived>(i));
+  }
   return s;
 }
 
@@ -89,9 +110,12 @@ ColumnSelection select_columns(const std::vector<std::string>& names) {
       s.fields.push_back(*f);
     } else if (auto i = ifield_by_name(n)) {
       s.ifields.push_back(*i);
+    } else if (auto d = derived_by_name(n)) {
+      s.derived.push_back(*d);
     } else {
       std::vector<std::string> known(kFieldNames.begin(), kFieldNames.end());
       known.insert(known.end(), kIFieldNames.begin(), kIFieldNames.end());
+      known.insert(known.end(), kDerivedNames.begin(), kDerivedNames.end());
       throw std::invalid_argument(
           fmt::format("unknown particle column '{}'{}", n, did_you_mean(n, known)));
     }
@@ -106,6 +130,9 @@ ColumnSelection registered_subset(const ColumnSelection& wanted, const ParticleS
   }
   for (IField f : wanted.ifields) {
     if (store.has(f)) s.ifields.push_back(f);
+  }
+  for (Derived d : wanted.derived) {
+    if (store.has(source_of(d))) s.derived.push_back(d);
   }
   return s;
 }

@@ -73,6 +73,13 @@ void write_particles(hid_t file, const ParticleStore& store, const ColumnSelecti
     h5::set_attr(set.get(), "units", unit_of(f));
     if (after_column) after_column(name);
   }
+  for (Derived d : columns.derived) {
+    const std::string name(name_of(d));
+    h5::write_reals(particles.get(), name, derived_values(store, d), 1, layout.storage);
+    h5::Handle set{H5Dopen2(particles.get(), name.c_str(), H5P_DEFAULT), H5Dclose};
+    h5::set_attr(set.get(), "units", unit_of(d));
+    if (after_column) after_column(name);
+  }
 
   h5::Handle groups = h5::create_group(file, "groups");
   std::vector<std::int64_t> begin, end, material;
@@ -101,6 +108,8 @@ ColumnSelection columns_in_file(hid_t file) {
       s.fields.push_back(*f);
     } else if (auto i = ifield_by_name(name)) {
       s.ifields.push_back(*i);
+    } else if (auto d = derived_by_name(name)) {
+      s.derived.push_back(*d);
     } else {
       throw std::runtime_error(
           fmt::format("{}: unknown particle column '{}'", h5::file_name(file), name));
@@ -143,7 +152,7 @@ ParticleStore read_particles(hid_t file, h5::Verify verify) {
   }
 
   for (const std::string& name : names) {
-    if (ifield_by_name(name)) continue;
+    if (ifield_by_name(name) || derived_by_name(name)) continue;  // derived: not restored
     const Bundle* b = bundle_by_name(name);
     const std::size_t k = b != nullptr ? b->components.size() : 1;
     const h5::RealTable t = h5::read_reals(particles.get(), name, verify);

@@ -40,7 +40,6 @@ constitutive::ConstitutiveColumns gather_columns(ParticleStore& s, FieldSet need
   c.heat = needed.has(Field::heat) ? need(s, Field::heat) : nullptr;
   for (int k = 0; k < 6; ++k) c.damage_state[k] = needed.has(dmg[k]) ? need(s, dmg[k]) : nullptr;
   c.distension = needed.has(Field::distension) ? need(s, Field::distension) : nullptr;
-  c.porosity = needed.has(Field::porosity) ? need(s, Field::porosity) : nullptr;
   c.compaction_heat =
       needed.has(Field::compaction_heat) ? need(s, Field::compaction_heat) : nullptr;
   return c;

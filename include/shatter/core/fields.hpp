@@ -78,10 +78,10 @@ enum class Field : std::uint8_t {
   // porous compaction state (issue 29): distension alpha = rho_s / rho, kept by the porosity
   // stage of the constitutive update (kernels/porosity)
   distension,
-  // its porosity 1 - 1/alpha (written with the distension, for the outputs), and the compaction
-  // work per unit mass the stage has booked, J/kg (kernels/porosity/porosity.hpp,
-  // compaction_work): the part of the internal energy spent closing pores
-  porosity,
+  // and the compaction work per unit mass the stage has booked, J/kg
+  // (kernels/porosity/porosity.hpp, compaction_work): the part of the internal energy spent
+  // closing pores. (The porosity 1 - 1/alpha is not stored: the outputs derive it,
+  // shatter/io/columns.hpp, Derived::porosity.)
   compaction_heat,
   kCount
 };
@@ -98,7 +98,7 @@ inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "sdev_xx",  "sdev_yy",  "sdev_zz",  "sdev_xy",  "sdev_yz",    "sdev_xz",   "plastic_strain",
     "heat",     "damage",   "eps_min",  "eps_max",  "n_flaws",    "weibull_m", "n_active",
     "vgrad_xx", "vgrad_xy", "vgrad_xz", "vgrad_yx", "vgrad_yy",   "vgrad_yz",  "vgrad_zx",
-    "vgrad_zy", "vgrad_zz", "peak_pressure", "distension", "porosity", "compaction_heat"};
+    "vgrad_zy", "vgrad_zz", "peak_pressure", "distension", "compaction_heat"};
 // clang-format on
 
 // Integer columns (64-bit so that particle ids never overflow).
