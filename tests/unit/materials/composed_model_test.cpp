@@ -12,25 +12,8 @@
 namespace shatter {
 namespace {
 
-constexpr FieldSet kEngineFields{
-    Field::mass,       Field::rho,     Field::energy,   Field::sxx,      Field::syy,
-    Field::szz,        Field::sxy,     Field::syz,      Field::sxz,      Field::pressure,
-    Field::soundspeed, Field::deps_xx, Field::deps_yy,  Field::deps_zz,  Field::deps_xy,
-    Field::deps_yz,    Field::deps_xz, Field::dspin_xy, Field::dspin_yz, Field::dspin_xz};
-
-ParticleStore store_for(const MaterialModel& m, std::size_t n, double rho, double e) {
-  ParticleStore s;
-  s.require(kEngineFields);
-  s.require(m.fields());
-  s.add_group(0, n);
-  for (std::size_t i = 0; i < n; ++i) {
-    s.col(Field::rho)[i] = rho;
-    s.col(Field::energy)[i] = e;
-    s.col(Field::mass)[i] = 1e-3;
-  }
-  m.initialise(s, {0, n});
-  return s;
-}
+using test::kEngineFields;
+using test::store_at;
 
 // The engine's density update (App. A.2 step 7): rho^{n+1} = rho^n / (1 + tr deps).
 void strain(ParticleStore& s, std::size_t i, const double (&de)[6]) {
@@ -48,7 +31,7 @@ TEST(ComposedModel, UniaxialStrainGivesConstrainedModulus) {
   // error by K eps^2 ~ 1e-6 * K eps at eps = 1e-6 (so 1e-5 relative is safe and still catches a
   // wrong factor on G or K).
   const auto m = make_material(kElastic);
-  auto s = store_for(*m, 1, 2700.0, 0.0);
+  auto s = store_at(*m, 1, 2700.0, 0.0);
   const double eps = 1e-6;
   const double K = 53.1e9 / (3 * (1 - 0.3)), G = 53.1e9 / (2 * 1.15);
   strain(s, 0, {eps, 0, 0, 0, 0, 0});
@@ -69,7 +52,7 @@ TEST(ComposedModel, IsochoricElasticCycleReturnsItsEnergy) {
   // hypoelastic cycle is not exactly conservative, by O(strain); the isentrope test covers the
   // volumetric work.)
   const auto m = make_material(kElastic);
-  auto s = store_for(*m, 1, 2700.0, 0.0);
+  auto s = store_at(*m, 1, 2700.0, 0.0);
   const double d = 5e-5;
   double peak = 0.0;
   for (int i = 0; i < 40; ++i) {
@@ -87,7 +70,7 @@ TEST(ComposedModel, IdealGasAdiabaticCompressionFollowsIsentrope) {
   // isentrope E = E0 (rho/rho0)^(gamma - 1). The predictor-corrector is second order, so the
   // error is ~ (d rho/rho)^2 per step * 200 steps ~ 1e-5; 1e-4 relative is the bound.
   const auto m = make_material(MaterialCatalogue::builtin().get("sod_gas"));
-  auto s = store_for(*m, 1, 1.0, 2.5);
+  auto s = store_at(*m, 1, 1.0, 2.5);
   const double target = 1.5;
   const int steps = 200;
   const double f = std::pow(target, 1.0 / steps);
@@ -107,8 +90,8 @@ TEST(ComposedModel, ArtificialViscosityActsOnCompressionOnly) {
   const ConstitutiveContext off{1e-3, 1e-2, {}};
   const ConstitutiveContext on{1e-3, 1e-2, {0.5, 2.0}};
   for (double tr : {-1e-3, 1e-3}) {
-    auto a = store_for(*m, 1, 1.0, 2.5);
-    auto b = store_for(*m, 1, 1.0, 2.5);
+    auto a = store_at(*m, 1, 1.0, 2.5);
+    auto b = store_at(*m, 1, 1.0, 2.5);
     strain(a, 0, {tr, 0, 0, 0, 0, 0});
     strain(b, 0, {tr, 0, 0, 0, 0, 0});
     m->update(a, {0, 1}, off);
@@ -190,7 +173,7 @@ TEST(ComposedModel, ExtremeStatesStayFinite) {
   for (const auto& spec : specs) {
     const auto m = make_material(spec);
     const std::size_t n = 19;
-    auto s = store_for(*m, n, 2700.0, 0.0);
+    auto s = store_at(*m, n, 2700.0, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
       const double tr = i % 4 == 0 ? -0.5 : i % 4 == 1 ? 200.0 : i % 4 == 2 ? 1e-2 : -1e-2;
       s.col(Field::energy)[i] = i % 3 == 0 ? 10 * 18.2e6 : 0.0;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "eos/tillotson.hpp"
+#include "shatter/core/particles.hpp"
 #include "shatter/material/catalogue.hpp"
 
 namespace shatter::test {
@@ -37,6 +38,29 @@ inline MaterialSpec spec(std::string name, std::string eos, std::string strength
   s.eos = std::move(eos);
   s.strength = std::move(strength);
   s.params = std::move(params);
+  return s;
+}
+
+// The columns the engine gives every material model (state, stress, increments), beside the
+// model's own fields().
+inline constexpr FieldSet kEngineFields{
+    Field::mass,       Field::rho,     Field::energy,   Field::sxx,      Field::syy,
+    Field::szz,        Field::sxy,     Field::syz,      Field::sxz,      Field::pressure,
+    Field::soundspeed, Field::deps_xx, Field::deps_yy,  Field::deps_zz,  Field::deps_xy,
+    Field::deps_yz,    Field::deps_xz, Field::dspin_xy, Field::dspin_yz, Field::dspin_xz};
+
+// n points of one group at (rho, e), mass 1e-3 kg, initialised by the model.
+inline ParticleStore store_at(const MaterialModel& m, std::size_t n, double rho, double e) {
+  ParticleStore s;
+  s.require(kEngineFields);
+  s.require(m.fields());
+  s.add_group(0, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    s.col(Field::rho)[i] = rho;
+    s.col(Field::energy)[i] = e;
+    s.col(Field::mass)[i] = 1e-3;
+  }
+  m.initialise(s, {0, n});
   return s;
 }
 

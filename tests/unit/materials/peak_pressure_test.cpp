@@ -6,17 +6,14 @@
 #include <algorithm>
 #include <vector>
 
+#include "material_test_support.hpp"
 #include "shatter/core/particles.hpp"
 #include "shatter/material/catalogue.hpp"
 
 namespace shatter {
 namespace {
 
-constexpr FieldSet kEngineFields{
-    Field::mass,       Field::rho,     Field::energy,   Field::sxx,      Field::syy,
-    Field::szz,        Field::sxy,     Field::syz,      Field::sxz,      Field::pressure,
-    Field::soundspeed, Field::deps_xx, Field::deps_yy,  Field::deps_zz,  Field::deps_xy,
-    Field::deps_yz,    Field::deps_xz, Field::dspin_xy, Field::dspin_yz, Field::dspin_xz};
+using test::kEngineFields;
 
 TEST(PeakPressure, HoldsTheLargestPressureThroughCompressionAndRelease) {
   // Isotropic compression of sod_gas in 10 steps, then release in 10: the tracer equals the

@@ -22,11 +22,8 @@
 namespace shatter {
 namespace {
 
-constexpr FieldSet kEngineFields{
-    Field::mass,       Field::rho,     Field::energy,   Field::sxx,      Field::syy,
-    Field::szz,        Field::sxy,     Field::syz,      Field::sxz,      Field::pressure,
-    Field::soundspeed, Field::deps_xx, Field::deps_yy,  Field::deps_zz,  Field::deps_xy,
-    Field::deps_yz,    Field::deps_xz, Field::dspin_xy, Field::dspin_yz, Field::dspin_xz};
+using test::kEngineFields;
+using test::store_at;
 
 constexpr double kNu = 0.25;
 constexpr double kNoKey = -99.0;  // basalt(kNoKey): the material without the key
@@ -54,21 +51,6 @@ MaterialSpec basalt(double from_eos) {
                                {"dilatancy", 0.0},
                                {"tension_cutoff", -1e11}});
   if (from_eos != kNoKey) s.params["shear_from_eos"] = from_eos;
-  return s;
-}
-
-// n points at (rho, e), initialised by the model.
-ParticleStore store_at(const MaterialModel& m, std::size_t n, double rho, double e) {
-  ParticleStore s;
-  s.require(kEngineFields);
-  s.require(m.fields());
-  s.add_group(0, n);
-  for (std::size_t i = 0; i < n; ++i) {
-    s.col(Field::rho)[i] = rho;
-    s.col(Field::energy)[i] = e;
-    s.col(Field::mass)[i] = 1e-3;
-  }
-  m.initialise(s, {0, n});
   return s;
 }
 
