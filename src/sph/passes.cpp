@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <tbb/parallel_for.h>
 
@@ -144,12 +145,20 @@ void SphSolver::Impl::drift(double dt) {
 // instead of 75 per particle in the benchmark's cube.
 void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
   const std::size_t n = s.particles_.size();
-  // Exactly the pairs (reserve first: resize alone would double the capacity).
+  // Room for the pairs, grown by an eighth when short (as the search's list buffers). Growing
+  // to the exact count re-allocated (and copied) both arrays at nearly every list build and
+  // every step of a compressing flow: in the laboratory impact that copy and its page faults
+  // were 15 % of the run (docs/performance.md, SPH round 5). Neither array's content is kept
+  // across the growth (both are rewritten before they are read), so the old one is dropped
+  // before the new one is made.
   const auto grow = [](auto& v, std::size_t size) {
-    if (v.size() < size) {
-      v.reserve(size);
-      v.resize(size);
+    if (v.size() >= size) return;
+    if (v.capacity() < size) {
+      const std::size_t cap = std::max(size, v.capacity() + v.capacity() / 8);
+      std::remove_reference_t<decltype(v)>().swap(v);
+      v.reserve(cap);
     }
+    v.resize(size);
   };
   grow(active, search.pairs());
   active_count.resize(n);
