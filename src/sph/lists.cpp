@@ -33,16 +33,48 @@ void SphSolver::Impl::smoothing_lengths() {
                     });
 }
 
-// Builds the lists with the skin (sph.skin x 2 max h) and records the positions and h they
-// were built at.
-// With lists = false, only the cells of a build without a skin (NeighbourSearch::bin), for a
-// re-order: the same cells a full build gives, at a fraction of its cost.
+// Each real particle's half of the Verlet skin (a pair (i, j) is listed within
+// h_i + h_j + s_i + s_j), at least sph.skin x max h (so sph.skin x 2 max h for a pair, as the
+// scene key says) and, for a fast particle, kSkinSteps steps of its own travel at the last
+// step's dt, up to kSkinCap times that floor. With one skin for all, the fastest particles set
+// how long every list lasts: in the laboratory impact the projectile and the shocked contact
+// (~3 km/s) forced a build every 2.6 steps, a third of the run (docs/performance.md, SPH round
+// 5). A larger skin for those few particles only lengthens their lists (and the cell edge,
+// 2 max (h + s)), not everyone's. Any skin gives the same compacted lists and so the same bits.
+// sph.skin = 0 keeps no skin at all (a build every step). 16 steps and 6x: the best of a sweep
+// of the laboratory impact (42 builds in 110 steps -> 12). Returns the largest s_p.
+namespace {
+constexpr double kSkinSteps = 16.0;
+constexpr double kSkinCap = 6.0;
+}  // namespace
+
+double SphSolver::Impl::particle_skins(double hmax, bool with_skin) {
+  const ParticleStore& P = s.particles_;
+  const std::size_t n = P.size();
+  const double floor = with_skin ? s.sph_.skin * hmax : 0.0;
+  const double travel = kSkinSteps * s.clock_.dt_prev;
+  const double* V[3] = {P.col(Field::vx).data(), P.col(Field::vy).data(), P.col(Field::vz).data()};
+  skin.resize(n);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t p = r.begin(); p < r.end(); ++p) {
+          const double v = std::sqrt(V[0][p] * V[0][p] + V[1][p] * V[1][p] + V[2][p] * V[2][p]);
+          skin[p] = std::min(kSkinCap * floor, std::max(floor, travel * v));
+        }
+      });
+  return exact_max(n, [&](std::size_t p) { return skin[p]; });
+}
+
+// Builds the lists with the particles' skins (particle_skins) and records the positions, h and
+// skins they were built at. With lists = false, only the cells of a build without a skin
+// (NeighbourSearch::bin), for a re-order: the same cells a full build gives, at a fraction of
+// its cost.
 void SphSolver::Impl::build_search(bool with_skin, bool lists) {
   const ParticleStore& P = s.particles_;
   const std::size_t n = P.size();
   const double hmax = exact_max(n, [&](std::size_t p) { return h[p]; });
-  skin_abs = with_skin ? s.sph_.skin * 2.0 * hmax : 0.0;
   if (!lists) {
+    skin_abs = 0.0;
     lists_valid = false;
     if (mirrors) {
       make_ghosts(hmax);
@@ -53,12 +85,21 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
     }
     return;
   }
+  // skin_abs: the largest pair skin, 2 max s_p (the images within 2 max h + skin_abs of a face
+  // are made: an image not made is then farther than h_i + h_j + s_i + s_j from every point).
+  skin_abs = 2.0 * particle_skins(hmax, with_skin);
+  if (mirrors) make_ghosts(hmax);
+  // The search's reach per point, h + s (h_mid is free here: the rates pass rewrites it), the
+  // images taking their sources'; the search then lists pairs within (h_i + s_i) + (h_j + s_j).
+  const std::size_t m = n + (mirrors ? ghosts.size() : 0);
+  h_mid.resize(m);
+  for (std::size_t p = 0; p < n; ++p) h_mid[p] = h[p] + skin[p];
+  for (std::size_t k = 0; k < m - n; ++k) h_mid[n + k] = h_mid[ghosts[k].src];
   if (mirrors) {
-    make_ghosts(hmax);
-    search.build(ex.data(), ey.data(), ez.data(), h.data(), n + ghosts.size(), n, skin_abs);
+    search.build(ex.data(), ey.data(), ez.data(), h_mid.data(), m, n, 0.0);
   } else {
-    search.build(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
-                 n, n, skin_abs);
+    search.build(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(),
+                 h_mid.data(), n, n, 0.0);
   }
   const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
   for (auto* v : {&xb, &yb, &zb, &hb}) v->resize(n);
@@ -71,21 +112,23 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
 }
 
 // Whether the lists (and images) of the last build still hold every pair within support:
-// a pair outside the lists was >= h_i + h_j + skin apart at the build; since then its distance
-// fell by at most |dx_i| + |dx_j| and its support grew by at most dh_i+ + dh_j+, so twice the
-// largest |dx_p| + dh_p+ below the skin keeps it outside (an image moves and grows as its
-// source; an image not made was >= 2 max h + skin from every real point). 1 % of the skin is
-// kept for round-off. Exact maximum: any thread count decides alike.
+// a pair outside the lists was >= h_i + h_j + s_i + s_j apart at the build; since then its
+// distance fell by at most |dx_i| + |dx_j| and its support grew by at most dh_i+ + dh_j+, so
+// |dx_p| + dh_p+ below s_p for every p keeps it outside (an image moves and grows as its
+// source; an image not made was >= 2 max h + 2 max s from every real point). 1 % of each skin
+// is kept for round-off. Exact maximum: any thread count decides alike.
 bool SphSolver::Impl::lists_still_cover() const {
   const ParticleStore& P = s.particles_;
   const std::size_t n = P.size();
-  if (!lists_valid || xb.size() != n || !(skin_abs > 0.0)) return false;
+  if (!lists_valid || xb.size() != n || skin.size() != n || !(skin_abs > 0.0)) return false;
   const auto x = P.col(Field::x), y = P.col(Field::y), z = P.col(Field::z);
+  // Each term <= 0 where the particle is still covered; exact_max starts from 0.
   const double worst = exact_max(n, [&](std::size_t p) {
     const double dx = x[p] - xb[p], dy = y[p] - yb[p], dz = z[p] - zb[p];
-    return std::sqrt(dx * dx + dy * dy + dz * dz) + std::max(0.0, h[p] - hb[p]);
+    const double used = std::sqrt(dx * dx + dy * dy + dz * dz) + std::max(0.0, h[p] - hb[p]);
+    return used - 0.99 * skin[p];
   });
-  return 2.0 * worst <= 0.99 * skin_abs;
+  return worst <= 0.0;
 }
 
 // Re-order each material group by cell (stable, so deterministic): the gather passes then

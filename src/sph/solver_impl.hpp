@@ -124,10 +124,10 @@ struct SphSolver::Impl {
   std::vector<std::uint32_t> order;
   std::vector<StageTiming> timings;
   std::unique_ptr<gravity::SelfGravity> gravity;  // gravity.self only (sph/gravity.cpp)
-  // Verlet lists: positions and h at the last build, the skin it used (m), whether the lists
-  // are those of the current store (false after a restore or when particles left), and the
-  // number of builds.
-  AlignedVector<double> xb, yb, zb, hb;
+  // Verlet lists: positions, h and half skins s_p at the last build (particle_skins), the
+  // largest pair skin 2 max s_p (m), whether the lists are those of the current store (false
+  // after a restore or when particles left), and the number of builds.
+  AlignedVector<double> xb, yb, zb, hb, skin;
   double skin_abs = 0.0;
   bool lists_valid = false;
   std::uint64_t builds = 0;
@@ -157,6 +157,7 @@ struct SphSolver::Impl {
   // lists.cpp
   void resize(std::size_t n);
   void smoothing_lengths();
+  double particle_skins(double hmax, bool with_skin);
   void build_search(bool with_skin = true, bool lists = true);
   bool lists_still_cover() const;
   void reorder_by_cell();
