@@ -70,7 +70,8 @@ total_flaws = 1.0e9
 }
 
 std::size_t solver_bytes(const sph::SphSolver& sim) {
-  // h, h_mid, a (3), heat, mu, kick heat: 8 doubles per particle; sigma / rho^2: 6; the compacted
+  // h, h_mid, a (3), heat, mu, kick heat: 8 doubles per particle; sigma / rho^2: 6; the Verlet
+  // skin and positions and h at the last build: 5 (the skin since session 17); the compacted
   // list's count (4 B) and where each particle's viscous weights start (8 B); per list entry: the
   // search's index (in bytes()) and the compacted index (4 B); per pair within support (as the
   // forces pass counts them): one viscous weight (8 B).
@@ -86,7 +87,7 @@ std::size_t solver_bytes(const sph::SphSolver& sim) {
       within += dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0;
     }
   }
-  return n * (14 * sizeof(double) + sizeof(std::uint32_t) + sizeof(std::size_t)) + nb.bytes() +
+  return n * (19 * sizeof(double) + sizeof(std::uint32_t) + sizeof(std::size_t)) + nb.bytes() +
          nb.pairs() * sizeof(std::uint32_t) + within * sizeof(double);
 }
 
