@@ -239,8 +239,10 @@ void NeighbourSearch::gather_chunk(std::size_t c, const Coordinates& at, std::si
         m += (dx * dx + dy * dy + dz * dz < reach * reach) & (sorted_[t] != i) ? 1 : 0;
       }
     }
-    // Ascending index: the canonical order, whatever the cells and skin.
-    std::sort(out, out + m);
+    // Ascending index: the canonical order, whatever the cells and skin. Points re-ordered by
+    // cell meet their candidates mostly in that order already (rows in key order, points of a
+    // cell in index order), and a sorted list skips the sort.
+    if (!std::is_sorted(out, out + m)) std::sort(out, out + m);
     offsets_[i + 1] = m;
     used += m;
   }
