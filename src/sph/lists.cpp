@@ -51,7 +51,7 @@ constexpr double kSkinCap = 6.0;
 double SphSolver::Impl::particle_skins(double hmax, bool with_skin) {
   const ParticleStore& P = s.particles_;
   const std::size_t n = P.size();
-  const double floor = with_skin ? s.sph_.skin * hmax : 0.0;
+  const double least = with_skin ? s.sph_.skin * hmax : 0.0;
   const double travel = kSkinSteps * s.clock_.dt_prev;
   const double* V[3] = {P.col(Field::vx).data(), P.col(Field::vy).data(), P.col(Field::vz).data()};
   skin.resize(n);
@@ -59,7 +59,7 @@ double SphSolver::Impl::particle_skins(double hmax, bool with_skin) {
       tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t p = r.begin(); p < r.end(); ++p) {
           const double v = std::sqrt(V[0][p] * V[0][p] + V[1][p] * V[1][p] + V[2][p] * V[2][p]);
-          skin[p] = std::min(kSkinCap * floor, std::max(floor, travel * v));
+          skin[p] = std::min(kSkinCap * least, std::max(least, travel * v));
         }
       });
   return exact_max(n, [&](std::size_t p) { return skin[p]; });
