@@ -43,7 +43,10 @@ struct StepSums {
 // Per-particle scratch columns of one step (sized by the sort stage).
 struct Scratch {
   AlignedVector<double> dx, dy, dz;  // displacement over the step (G2P -> advance_positions)
-  AlignedVector<double> kinetic, potential;  // mechanical energy at t^n (G2P -> energy)
+  // Mechanical energy at t^n (G2P -> energy). The potential -m g.x is zero for every particle
+  // without gravity (the exact sum of zeros is zero): the column is then left empty (8 B per
+  // particle less) and the energy stage's sum over it is empty.
+  AlignedVector<double> kinetic, potential;
   // 1/2 m_p |v_p|^2 of the velocity each particle scattered in this step's P2G (v^{n-1/2}),
   // written by G2P; outflow does not drop the departed ones (their momentum is on the nodes).
   AlignedVector<double> kinetic_transferred;
@@ -111,15 +114,23 @@ struct State {
   // The step being taken applies the XPIC/FMPM filter (SolverConfig::filter_every); set by
   // Simulation::step from the step counter before the graph runs, the same on a retake.
   bool filtering = true;
-  double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
-  double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
-  double empty_mass = 0.0;     // nodes lighter than this are treated as empty
+  // The remap's momentum scatter ran inside the G2P pass of this attempt (stages/g2p.cpp:
+  // single field, one rank, no driven bodies, no filter heat); the remap stage then only swaps.
+  bool remap_fused = false;
+  SparseGrid::Nodes remap_nodes;  // the fused remap's momentum sums (px, py, pz only)
+  double dt_step = 0.0;           // dt^{n+1/2} of the step being taken
+  double internal_next = 0.0;     // sum m E at t^{n+1}, reported with the next step
+  double empty_mass = 0.0;        // nodes lighter than this are treated as empty
   Fault fault = Fault::from_environment();
   Journal journal;                   // the step retake's record (retake.hpp)
   std::vector<StageTiming> timings;  // the graph's and the retake's (Simulation::stage_timings)
 
   bool dist() const { return ranks.dist; }
   double inv_h() const { return 1.0 / config.cell_size; }
+  bool uniform_gravity() const {
+    const Vec3 g = config.gravity;
+    return g.x() != 0.0 || g.y() != 0.0 || g.z() != 0.0;
+  }
   kernels::StencilCache stencils(kernels::StencilCache::Mode mode) {
     return {stencil_w.data(), stencil_off.data(), mode};
   }
