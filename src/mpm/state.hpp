@@ -114,13 +114,9 @@ struct State {
   // The step being taken applies the XPIC/FMPM filter (SolverConfig::filter_every); set by
   // Simulation::step from the step counter before the graph runs, the same on a retake.
   bool filtering = true;
-  // The remap's momentum scatter ran inside the G2P pass of this attempt (stages/g2p.cpp:
-  // single field, one rank, no driven bodies, no filter heat); the remap stage then only swaps.
-  bool remap_fused = false;
-  SparseGrid::Nodes remap_nodes;  // the fused remap's momentum sums (px, py, pz only)
-  double dt_step = 0.0;           // dt^{n+1/2} of the step being taken
-  double internal_next = 0.0;     // sum m E at t^{n+1}, reported with the next step
-  double empty_mass = 0.0;        // nodes lighter than this are treated as empty
+  double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
+  double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
+  double empty_mass = 0.0;     // nodes lighter than this are treated as empty
   Fault fault = Fault::from_environment();
   Journal journal;                   // the step retake's record (retake.hpp)
   std::vector<StageTiming> timings;  // the graph's and the retake's (Simulation::stage_timings)

@@ -9,50 +9,6 @@
 namespace shatter::mpm {
 namespace {
 
-// The remap's scatter may run inside G2P's pass (one read of each particle's stencil row, mass
-// and velocity while they are in cache) where the scatter is the plain one: a single velocity
-// field (no body copies), one rank (the momentum halo exchange follows the remap stage), no
-// driven bodies (their velocities are set after G2P) and no filter heat (it reads the FLIP
-// velocities between G2P and the remap). Declared at build time; checked again each step.
-bool may_fuse_remap(const State& s) {
-  return s.transfer.remap && !s.transfer.filter_heat && !s.dist();
-}
-
-// G2P and the remap's momentum scatter (App. A.2 steps 5 and 6) block by block, colour by colour
-// as the remap's scatter runs (stages/p2g.cpp): each block's particles take their velocity from
-// the grid, then scatter m_p v_p into a second set of momentum arrays, since the blocks of a
-// later colour still gather the step-4 velocities from the first. Per particle the same
-// operations as the two passes, and the node sums are formed in the remap's order: bit for bit.
-template <class Shape, class Energies>
-void g2p_remap(State& s, const kernels::G2PParticles& in, Energies& energies) {
-  SparseGrid& grid = s.grid;
-  SparseGrid::Nodes& R = s.remap_nodes;
-  for (auto* v : {&R.px, &R.py, &R.pz}) v->assign(grid.nodes().px.size(), 0.0);
-  kernels::P2GParticles momentum = p2g_inputs(s.particles, s.inv_h(), false);
-  momentum.stencil = s.stencils(kernels::StencilCache::kLoad);
-  for (int c = 0; c < SparseGrid::kColours; ++c) {
-    const auto blocks = grid.colour(c);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        kernels::G2PWindow win;
-                        kernels::P2GScratch scratch;
-                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                          const std::uint32_t b = blocks[k];
-                          for_each_list_run(grid, b, [&](auto run, std::uint32_t list) {
-                            kernels::g2p_block<Shape>(in, run, grid.coord(b), grid.list(list),
-                                                      grid.nodes(), win, energies);
-                          });
-                          kernels::p2g_block<Shape, false>(momentum, grid.owned(b), grid.coord(b),
-                                                           grid.neighbours(b), R, scratch);
-                        }
-                      });
-  }
-  SparseGrid::Nodes& N = grid.nodes();
-  std::swap(N.px, R.px);
-  std::swap(N.py, R.py);
-  std::swap(N.pz, R.pz);
-}
-
 template <class Shape>
 void g2p(State& s) {
   ParticleStore& P = s.particles;
@@ -89,11 +45,6 @@ void g2p(State& s) {
     if (potential == nullptr) return;  // no gravity: zero (Scratch)
     potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
   };
-  s.remap_fused = may_fuse_remap(s) && !s.driven && !s.grid.has_copies();
-  if (s.remap_fused) {
-    g2p_remap<Shape>(s, in, energies);
-    return;
-  }
   for_each_run<kernels::G2PWindow>(
       s.grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
                   const std::uint32_t* nb, kernels::G2PWindow& win) {
@@ -119,11 +70,9 @@ void g2p(State& s) {
 
 template <class Shape>
 Stage g2p_stage(State& s) {
-  const std::uint32_t fused =
-      may_fuse_remap(s) ? std::uint32_t{kGrid} : 0U;  // the remap's sums, when fused
   return {"g2p",
           {kGeometry | FieldSet{Field::mass}, kGrid | kBlocks | kClock},
-          {kVelocity, kDisplacement | kMechanical | fused},
+          {kVelocity, kDisplacement | kMechanical},
           [&s] { g2p<Shape>(s); }};
 }
 
