@@ -43,7 +43,10 @@ struct StepSums {
 // Per-particle scratch columns of one step (sized by the sort stage).
 struct Scratch {
   AlignedVector<double> dx, dy, dz;  // displacement over the step (G2P -> advance_positions)
-  AlignedVector<double> kinetic, potential;  // mechanical energy at t^n (G2P -> energy)
+  // Mechanical energy at t^n (G2P -> energy). The potential -m g.x is zero for every particle
+  // without gravity (the exact sum of zeros is zero): the column is then left empty (8 B per
+  // particle less) and the energy stage's sum over it is empty.
+  AlignedVector<double> kinetic, potential;
   // 1/2 m_p |v_p|^2 of the velocity each particle scattered in this step's P2G (v^{n-1/2}),
   // written by G2P; outflow does not drop the departed ones (their momentum is on the nodes).
   AlignedVector<double> kinetic_transferred;
@@ -120,6 +123,10 @@ struct State {
 
   bool dist() const { return ranks.dist; }
   double inv_h() const { return 1.0 / config.cell_size; }
+  bool uniform_gravity() const {
+    const Vec3 g = config.gravity;
+    return g.x() != 0.0 || g.y() != 0.0 || g.z() != 0.0;
+  }
   kernels::StencilCache stencils(kernels::StencilCache::Mode mode) {
     return {stencil_w.data(), stencil_off.data(), mode};
   }

@@ -33,6 +33,7 @@ void g2p(State& s) {
   const double* mass = P.col(Field::mass).data();
   const double half_dt_prev = 0.5 * s.clock.dt_prev;
   const Vec3 g = s.config.gravity;
+  double* const potential = sc.potential.empty() ? nullptr : sc.potential.data();
   // Velocity at t^n, v^{n-1/2} + a dt^{n-1/2}/2, makes the kinetic energy time-centred with
   // the internal energy (second-order energy error).
   const double w = in.dt_velocity > 0 ? half_dt_prev / in.dt_velocity : 0.0;
@@ -41,7 +42,8 @@ void g2p(State& s) {
                           v0[2] + w * (in.vz[p] - v0[2])};
     sc.kinetic[p] = 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
     sc.kinetic_transferred[p] = 0.5 * mass[p] * (v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]);
-    sc.potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
+    if (potential == nullptr) return;  // no gravity: zero (Scratch)
+    potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
   };
   for_each_run<kernels::G2PWindow>(
       s.grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,

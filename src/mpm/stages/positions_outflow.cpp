@@ -23,17 +23,18 @@ void advance_positions(State& s) {
 }
 
 // The departed particles' rows of the per-particle mechanical energies are dropped so that the
-// energy sums match the remaining particles.
+// energy sums match the remaining particles (the potential only where it is stored: Scratch).
 void drop_departed(Scratch& sc, const std::vector<std::uint8_t>& leaving) {
+  const bool potential = !sc.potential.empty();
   std::size_t k = 0;
   for (std::size_t p = 0; p < leaving.size(); ++p) {
     if (leaving[p]) continue;
     sc.kinetic[k] = sc.kinetic[p];
-    sc.potential[k] = sc.potential[p];
+    if (potential) sc.potential[k] = sc.potential[p];
     ++k;
   }
   sc.kinetic.resize(k);
-  sc.potential.resize(k);
+  if (potential) sc.potential.resize(k);
 }
 
 void outflow(State& s) {

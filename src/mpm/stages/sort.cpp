@@ -37,8 +37,8 @@ void sort(State& s) {
   const std::size_t n = P.size();
   s.owner_keys.resize(n);
   Scratch& sc = s.scratch;
-  for (auto* v : {&sc.dx, &sc.dy, &sc.dz, &sc.kinetic, &sc.potential, &sc.kinetic_transferred})
-    v->resize(n);
+  for (auto* v : {&sc.dx, &sc.dy, &sc.dz, &sc.kinetic, &sc.kinetic_transferred}) v->resize(n);
+  sc.potential.resize(s.uniform_gravity() ? n : 0);  // none without gravity (Scratch)
   s.stencil_w.resize(n * kernels::Stencil<Shape>::kRow);
   s.stencil_off.resize(n);
 
