@@ -20,6 +20,11 @@ dry sand K1 = 0.24, mu = 0.41 (Holsapple 1993: pi_V = 0.24 pi_2^-0.51; = K1 0.13
 g a / U^2 form, 0.132 x 3.22^0.51 = 0.24) and the non-porous class (water, wet soils, rock in
 the gravity regime) K1 = 0.2, mu = 0.55 (pi_V = 0.2 pi_2^-0.65; K1 0.095 of the other form).
 rho is the target's bulk density, delta and m the projectile's density and mass.
+Runs at g = 0 (LABEL pi2 = 0) give the crater without gravity; with them, the fit's two-term
+(gravity-strength transition) form of Holsapple 1993 / Holsapple & Housen 2007,
+  pi_V = K1 [pi_2 (rho/delta)^((6 nu - 2 - mu)/(3 mu)) + S]^(-3 mu / (2 + mu)),
+is also evaluated, S (the strength term, (K2 pi_3)^((2 + mu)/2) for a cohesive target) fixed by
+the g = 0 run of the same porosity: pi_V(g = 0) = K1 S^(-3 mu / (2 + mu)).
 """
 import csv
 import math
@@ -41,6 +46,16 @@ FITS = {"dry sand (K1 0.24, mu 0.41)": (0.24, 0.41),
 def pi_v_fit(k1, mu, pi2, rho_ratio):
     """Holsapple's gravity-regime pi_V at pi_2 and rho/delta."""
     inner = pi2 * rho_ratio ** ((6.0 * NU - 2.0 - mu) / (3.0 * mu))
+    return k1 * inner ** (-3.0 * mu / (2.0 + mu))
+
+
+def strength_term(k1, mu, pi_v0):
+    """S of the two-term form from the crater at g = 0."""
+    return (pi_v0 / k1) ** (-(2.0 + mu) / (3.0 * mu))
+
+
+def pi_v_two_term(k1, mu, pi2, rho_ratio, S):
+    inner = pi2 * rho_ratio ** ((6.0 * NU - 2.0 - mu) / (3.0 * mu)) + S
     return k1 * inner ** (-3.0 * mu / (2.0 + mu))
 
 
@@ -66,6 +81,11 @@ def main(prefix, specs):
                 w.writerow([phi, pi2, cppr, f"{t:.2f}", f"{d:.4f}", f"{dia:.4f}", f"{v:.3f}",
                             f"{rho * v / m_over_a3:.4f}"])
     table = []
+    pi_v0 = {}  # porosity -> pi_V of the g = 0 crater (transient), at the finest CPPR run
+    for phi, pi2, cppr, run_dir, hist in runs:
+        if pi2 == 0.0:
+            ok = [r for r in hist if np.isfinite(r[3])]
+            pi_v0[phi] = RHO_MATRIX * (1.0 - phi) * max(r[3] for r in ok) / m_over_a3
     for phi, pi2, cppr, run_dir, hist in runs:
         rho = RHO_MATRIX * (1.0 - phi)
         ok = [r for r in hist if np.isfinite(r[3])]
@@ -77,10 +97,19 @@ def main(prefix, specs):
                "t_final_aU": fin[0], "diameter_final_a": fin[2], "pi_V_final": pv_fin}
         for name, (k1, mu) in FITS.items():
             key = "sand" if "sand" in name else "nonporous"
-            fit = pi_v_fit(k1, mu, pi2, rho / RHO_PROJ)
-            row["fit_" + key] = fit
-            row["ratio_" + key] = pv / fit
-            row["ratio_final_" + key] = pv_fin / fit
+            if pi2 > 0.0:
+                fit = pi_v_fit(k1, mu, pi2, rho / RHO_PROJ)
+                row["fit_" + key] = fit
+                row["ratio_" + key] = pv / fit
+                row["ratio_final_" + key] = pv_fin / fit
+            else:
+                row["fit_" + key] = row["ratio_" + key] = row["ratio_final_" + key] = math.nan
+            if phi in pi_v0:
+                two = pi_v_two_term(k1, mu, pi2, rho / RHO_PROJ, strength_term(k1, mu, pi_v0[phi]))
+                row["two_term_" + key] = two
+                row["ratio_two_term_" + key] = pv / two
+            else:
+                row["two_term_" + key] = row["ratio_two_term_" + key] = math.nan
         table.append(row)
     with open(prefix + "-table.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(table[0].keys()))
@@ -105,7 +134,19 @@ def plot(prefix, runs, table):
                 rho = RHO_MATRIX * (1.0 - phi)
                 ax.plot(p2, pi_v_fit(k1, mu, p2, rho / RHO_PROJ), ls, color=col, label=name)
     colours = {0.0: "C0", 0.2: "C2", 0.35: "C1"}
+    for phi, col in ((0.35, "C1"), (0.0, "C0")):
+        for name, (k1, mu) in FITS.items():
+            if fit_for(phi) != name:
+                continue
+            g0 = [r for r in table if r["pi2"] == 0.0 and r["porosity"] == phi]
+            if g0:
+                rho = RHO_MATRIX * (1.0 - phi)
+                S = strength_term(k1, mu, g0[0]["pi_V"])
+                ax.plot(p2, pi_v_two_term(k1, mu, p2, rho / RHO_PROJ, S), ":", color=col,
+                        label=name.split(" (")[0] + " two-term, S from the g = 0 run")
     for row in table:
+        if row["pi2"] == 0.0:
+            continue
         c = colours.get(row["porosity"], "k")
         mk = "o" if row["cppr"] == max(r["cppr"] for r in table) else "s"
         ax.plot(row["pi2"], row["pi_V"], mk, color=c, ms=7 if mk == "o" else 5)
@@ -119,9 +160,9 @@ def plot(prefix, runs, table):
     ax.legend(fontsize=7)
     ax.grid(True, which="both", alpha=0.3)
     for phi, pi2, cppr, _, hist in runs:
-        h = np.array(hist)
-        ls = "-" if pi2 > 2e-3 else ("--" if pi2 > 5e-4 else ":")
-        bx.plot(h[:, 0], h[:, 3], ls, color=colours.get(phi, "k"), alpha=1.0 if cppr > 5 else 0.8,
+        h = np.array([r for r in hist if np.isfinite(r[3])])
+        ls = {0.0: (0, (1, 1)), 3e-4: ":", 1e-3: "--", 3e-3: "-"}.get(pi2, "-.")
+        bx.plot(h[:, 0], h[:, 3], linestyle=ls, color=colours.get(phi, "k"), lw=1.6 if cppr > 5 else 1.0,
                 label=f"{phi:.0%}, pi_2 {pi2:g}, {cppr} CPPR")
     bx.set_xlabel("t (a/U)")
     bx.set_ylabel("cavity volume below z = 0 (a^3)")

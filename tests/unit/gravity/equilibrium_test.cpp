@@ -168,7 +168,7 @@ ColumnDrift run_column(bool equilibrium) {
 
 // 4e-4 s is 4 P-wave crossings of the column (H / c_p ~ 1e-4 s) and 1/4 of the pi_2 = 3e-3
 // crater's growth time; 328 steps. Started unstressed, the column falls onto its floor and
-// rings: rms |v| up to 0.14 g t (g t = 93 m/s), max 0.23 g t, the lower half's pressure 89 %
+// rings: rms |v| up to 0.14 g t (g t = 93 m/s), max 0.23 g t, the lower half's pressure 85 %
 // off the overburden's at the worst of 8 samples. Started lithostatic: rms |v| <= 8.6e-3 g t,
 // max 3.4e-2 g t (points of the bottom cell row near the axis and the wall: the discrete
 // balance where the slip floor takes the nodes' normal velocity), pressure within 2.0e-2 of
