@@ -2,8 +2,9 @@
 gravity-regime crater scaling").
 
 usage: gravity_scaling.py OUT_PREFIX LABEL=RUN_DIR [LABEL=RUN_DIR ...]
-  LABEL is "porosity,pi2,cppr" (e.g. 0.35,1e-3,5); RUN_DIR a run of
-  scenes/porosity/gravity-crater.toml. Writes OUT_PREFIX.csv (every snapshot: time, depth,
+  LABEL is "porosity,pi2,cppr,series" (e.g. 0.35,1e-3,5,L); RUN_DIR a run of
+  scenes/porosity/gravity-crater.toml; series names the target material (a g = 0 run calibrates
+  the two-term form of its own series and porosity). Writes OUT_PREFIX.csv (every snapshot: time, depth,
   diameter, volume, pi_V), OUT_PREFIX-table.csv (per run: the transient crater, its pi_V against
   the fits, the final state) and OUT_PREFIX.png.
 
@@ -69,30 +70,32 @@ def main(prefix, specs):
     runs = []
     for spec in specs:
         label, run_dir = spec.split("=", 1)
-        phi, pi2, cppr = (float(x) for x in label.split(","))
-        runs.append((phi, pi2, int(cppr), run_dir, crater_sweep.history(run_dir)))
+        phi, pi2, cppr, series = label.split(",")
+        runs.append((float(phi), float(pi2), int(cppr), run_dir, crater_sweep.history(run_dir),
+                     series))
     m_over_a3 = 4.0 / 3.0 * math.pi * RHO_PROJ  # projectile mass / a^3
     with open(prefix + ".csv", "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["porosity", "pi2", "cppr", "t_aU", "depth_a", "diameter_a", "volume_a3", "pi_V"])
-        for phi, pi2, cppr, _, hist in runs:
+        w.writerow(["series", "porosity", "pi2", "cppr", "t_aU", "depth_a", "diameter_a",
+                    "volume_a3", "pi_V"])
+        for phi, pi2, cppr, _, hist, series in runs:
             rho = RHO_MATRIX * (1.0 - phi)
             for t, d, dia, v in hist:
-                w.writerow([phi, pi2, cppr, f"{t:.2f}", f"{d:.4f}", f"{dia:.4f}", f"{v:.3f}",
+                w.writerow([series, phi, pi2, cppr, f"{t:.2f}", f"{d:.4f}", f"{dia:.4f}", f"{v:.3f}",
                             f"{rho * v / m_over_a3:.4f}"])
     table = []
-    pi_v0 = {}  # porosity -> pi_V of the g = 0 crater (transient), at the finest CPPR run
-    for phi, pi2, cppr, run_dir, hist in runs:
+    pi_v0 = {}  # (series, porosity, cppr) -> pi_V of the g = 0 crater (transient)
+    for phi, pi2, cppr, run_dir, hist, series in runs:
         if pi2 == 0.0:
             ok = [r for r in hist if np.isfinite(r[3])]
-            pi_v0[phi] = RHO_MATRIX * (1.0 - phi) * max(r[3] for r in ok) / m_over_a3
-    for phi, pi2, cppr, run_dir, hist in runs:
+            pi_v0[(series, phi, cppr)] = RHO_MATRIX * (1.0 - phi) * max(r[3] for r in ok) / m_over_a3
+    for phi, pi2, cppr, run_dir, hist, series in runs:
         rho = RHO_MATRIX * (1.0 - phi)
         ok = [r for r in hist if np.isfinite(r[3])]
         tr = max(ok, key=lambda r: r[3])
         fin = ok[-1]
         pv, pv_fin = rho * tr[3] / m_over_a3, rho * fin[3] / m_over_a3
-        row = {"porosity": phi, "pi2": pi2, "cppr": cppr, "t_transient_aU": tr[0],
+        row = {"series": series, "porosity": phi, "pi2": pi2, "cppr": cppr, "t_transient_aU": tr[0],
                "depth_a": tr[1], "diameter_a": tr[2], "volume_a3": tr[3], "pi_V": pv,
                "t_final_aU": fin[0], "diameter_final_a": fin[2], "pi_V_final": pv_fin}
         for name, (k1, mu) in FITS.items():
@@ -104,8 +107,9 @@ def main(prefix, specs):
                 row["ratio_final_" + key] = pv_fin / fit
             else:
                 row["fit_" + key] = row["ratio_" + key] = row["ratio_final_" + key] = math.nan
-            if phi in pi_v0:
-                two = pi_v_two_term(k1, mu, pi2, rho / RHO_PROJ, strength_term(k1, mu, pi_v0[phi]))
+            if (series, phi, cppr) in pi_v0:
+                S = strength_term(k1, mu, pi_v0[(series, phi, cppr)])
+                two = pi_v_two_term(k1, mu, pi2, rho / RHO_PROJ, S)
                 row["two_term_" + key] = two
                 row["ratio_two_term_" + key] = pv / two
             else:
@@ -138,32 +142,39 @@ def plot(prefix, runs, table):
         for name, (k1, mu) in FITS.items():
             if fit_for(phi) != name:
                 continue
-            g0 = [r for r in table if r["pi2"] == 0.0 and r["porosity"] == phi]
+            g0 = [r for r in table if r["pi2"] == 0.0 and r["porosity"] == phi
+                  and r["series"] == "L" and r["cppr"] == 5]
             if g0:
                 rho = RHO_MATRIX * (1.0 - phi)
                 S = strength_term(k1, mu, g0[0]["pi_V"])
                 ax.plot(p2, pi_v_two_term(k1, mu, p2, rho / RHO_PROJ, S), ":", color=col,
-                        label=name.split(" (")[0] + " two-term, S from the g = 0 run")
+                        label=name.split(" (")[0] + " two-term, S from series L's g = 0 run")
+    markers = {"L": "o", "Lp": "^", "D": "s"}
     for row in table:
         if row["pi2"] == 0.0:
             continue
         c = colours.get(row["porosity"], "k")
-        mk = "o" if row["cppr"] == max(r["cppr"] for r in table) else "s"
-        ax.plot(row["pi2"], row["pi_V"], mk, color=c, ms=7 if mk == "o" else 5)
-        ax.plot(row["pi2"], row["pi_V_final"], mk, color=c, mfc="none", ms=7 if mk == "o" else 5)
+        mk = markers.get(row["series"], "x")
+        ms = 10 if row["cppr"] > 5 else 6
+        ax.plot(row["pi2"], row["pi_V"], mk, color=c, ms=ms)
+        ax.plot(row["pi2"], row["pi_V_final"], mk, color=c, mfc="none", ms=ms)
     for phi, c in colours.items():
-        ax.plot([], [], "o", color=c, label=f"shatter, porosity {phi:.0%} (filled: transient, open: final)")
+        ax.plot([], [], "o", color=c, label=f"porosity {phi:.0%}")
+    for sname, mk in markers.items():
+        ax.plot([], [], mk, color="grey", label=f"series {sname} (filled: transient, open: final)")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("pi_2 = 3.22 g a / U^2")
     ax.set_ylabel("pi_V = rho V / m")
     ax.legend(fontsize=7)
     ax.grid(True, which="both", alpha=0.3)
-    for phi, pi2, cppr, _, hist in runs:
+    for phi, pi2, cppr, _, hist, series in runs:
+        if series != "L" and pi2 != 0.0:
+            continue
         h = np.array([r for r in hist if np.isfinite(r[3])])
         ls = {0.0: (0, (1, 1)), 3e-4: ":", 1e-3: "--", 3e-3: "-"}.get(pi2, "-.")
         bx.plot(h[:, 0], h[:, 3], linestyle=ls, color=colours.get(phi, "k"), lw=1.6 if cppr > 5 else 1.0,
-                label=f"{phi:.0%}, pi_2 {pi2:g}, {cppr} CPPR")
+                label=f"{series} {phi:.0%}, pi_2 {pi2:g}, {cppr} CPPR")
     bx.set_xlabel("t (a/U)")
     bx.set_ylabel("cavity volume below z = 0 (a^3)")
     bx.legend(fontsize=6)
