@@ -162,6 +162,7 @@ def plot(prefix, runs, table):
         ax.plot([], [], "o", color=c, label=f"porosity {phi:.0%}")
     for sname, mk in markers.items():
         ax.plot([], [], mk, color="grey", label=f"series {sname} (filled: transient, open: final)")
+    ax.plot([], [], "o", color="grey", ms=10, label="large: 10 CPPR, small: 5 CPPR")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("pi_2 = 3.22 g a / U^2")
