@@ -35,10 +35,23 @@ void read_gravity(Reader& root, Scene& scene) {
                          "dt <= dt_factor sqrt(cell / max |a|); above 1 a point falls more than a "
                          "cell in one step");
   g.equilibrium = r.boolean("equilibrium", false);
-  if (g.equilibrium && !g.self) {
-    r.fail("equilibrium", "needs gravity.self = true (the equilibrium is under self-gravity)");
-  }
   const auto& faces = scene.solver.domain.faces;
+  if (g.equilibrium && !g.self) {
+    // The uniform-field lithostatic start (shatter/gravity/equilibrium.hpp): gravity along -z
+    // and a lower z face that bears the weight.
+    const Vec3& u = scene.solver.gravity;
+    const BoundaryKind floor = faces[4];
+    if (!(u.z() < 0.0 && u.x() == 0.0 && u.y() == 0.0)) {
+      r.fail("equilibrium",
+             "needs gravity.self = true or a uniform solver.gravity along -z (the equilibrium is "
+             "under self-gravity or that field)");
+    }
+    if (floor != BoundaryKind::fixed && floor != BoundaryKind::slip) {
+      r.fail("equilibrium",
+             "under a uniform field needs a 'fixed' or 'slip' z_lo face of the domain to bear "
+             "the weight");
+    }
+  }
   const bool mirrored =
       std::find(faces.begin(), faces.end(), BoundaryKind::symmetry) != faces.end();
   if (g.self && (mirrored || scene.symmetry_axis >= 0)) {

@@ -1,0 +1,190 @@
+"""Gravity-regime crater scaling in r-z (issue 29; docs/validation-porosity.md, "Session 17:
+gravity-regime crater scaling").
+
+usage: gravity_scaling.py OUT_PREFIX LABEL=RUN_DIR [LABEL=RUN_DIR ...]
+  LABEL is "porosity,pi2,cppr,series" (e.g. 0.35,1e-3,5,L); RUN_DIR a run of
+  scenes/porosity/gravity-crater.toml; series names the target material (a g = 0 run calibrates
+  the two-term form of its own series and porosity). Writes OUT_PREFIX.csv (every snapshot: time, depth,
+  diameter, volume, pi_V), OUT_PREFIX-table.csv (per run: the transient crater, its pi_V against
+  the fits, the final state) and OUT_PREFIX.png.
+
+Crater: the cavity as studies/axisymmetric/crater.py measures it (depth below the pre-impact
+surface z = 0 on the axis; diameter where the surface profile, walked out from the axis, crosses
+z = 0) and its volume below z = 0 inside that diameter (crater_sweep.volume). The transient
+crater is the snapshot of largest volume (the end of growth: after it the cavity shallows and
+the volume falls); "final" is the last snapshot.
+Scaling (point source; Holsapple 1993, Annu. Rev. Earth Planet. Sci. 21, 333; the form with the
+density ratio of Holsapple & Housen 2007 / Housen & Holsapple 2011, nu = 0.4):
+  pi_V = rho V / m = K1 [pi_2 (rho/delta)^((6 nu - 2 - mu)/(3 mu))]^(-3 mu / (2 + mu)),
+  pi_2 = 3.22 g a / U^2,
+dry sand K1 = 0.24, mu = 0.41 (Holsapple 1993: pi_V = 0.24 pi_2^-0.51; = K1 0.132 of the
+g a / U^2 form, 0.132 x 3.22^0.51 = 0.24) and the non-porous class (water, wet soils, rock in
+the gravity regime) K1 = 0.2, mu = 0.55 (pi_V = 0.2 pi_2^-0.65; K1 0.095 of the other form).
+rho is the target's bulk density, delta and m the projectile's density and mass.
+Runs at g = 0 (LABEL pi2 = 0) give the crater without gravity; with them, the fit's two-term
+(gravity-strength transition) form of Holsapple 1993 / Holsapple & Housen 2007,
+  pi_V = K1 [pi_2 (rho/delta)^((6 nu - 2 - mu)/(3 mu)) + S]^(-3 mu / (2 + mu)),
+is also evaluated, S (the strength term, (K2 pi_3)^((2 + mu)/2) for a cohesive target) fixed by
+the g = 0 run of the same porosity: pi_V(g = 0) = K1 S^(-3 mu / (2 + mu)).
+"""
+import csv
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(__file__))
+import crater_sweep  # noqa: E402  (history: depth, diameter, volume of every snapshot)
+
+RHO_MATRIX = 2700.0  # kg/m^3: granular_basalt's matrix (scenes/porosity/materials.toml)
+RHO_PROJ = 2700.0  # kg/m^3: the basalt projectile
+NU = 0.4
+FITS = {"dry sand (K1 0.24, mu 0.41)": (0.24, 0.41),
+        "non-porous (K1 0.2, mu 0.55)": (0.2, 0.55)}
+
+
+def pi_v_fit(k1, mu, pi2, rho_ratio):
+    """Holsapple's gravity-regime pi_V at pi_2 and rho/delta."""
+    inner = pi2 * rho_ratio ** ((6.0 * NU - 2.0 - mu) / (3.0 * mu))
+    return k1 * inner ** (-3.0 * mu / (2.0 + mu))
+
+
+def strength_term(k1, mu, pi_v0):
+    """S of the two-term form from the crater at g = 0."""
+    return (pi_v0 / k1) ** (-(2.0 + mu) / (3.0 * mu))
+
+
+def pi_v_two_term(k1, mu, pi2, rho_ratio, S):
+    inner = pi2 * rho_ratio ** ((6.0 * NU - 2.0 - mu) / (3.0 * mu)) + S
+    return k1 * inner ** (-3.0 * mu / (2.0 + mu))
+
+
+def fit_for(phi):
+    """The fit a porosity is compared with: dry sand (35 %) for porous targets, else non-porous."""
+    return "dry sand (K1 0.24, mu 0.41)" if phi > 0.3 else (
+        "non-porous (K1 0.2, mu 0.55)" if phi == 0.0 else None)
+
+
+def main(prefix, specs):
+    runs = []
+    for spec in specs:
+        label, run_dir = spec.split("=", 1)
+        phi, pi2, cppr, series = label.split(",")
+        runs.append((float(phi), float(pi2), int(cppr), run_dir, crater_sweep.history(run_dir),
+                     series))
+    m_over_a3 = 4.0 / 3.0 * math.pi * RHO_PROJ  # projectile mass / a^3
+    with open(prefix + ".csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["series", "porosity", "pi2", "cppr", "t_aU", "depth_a", "diameter_a",
+                    "volume_a3", "pi_V"])
+        for phi, pi2, cppr, _, hist, series in runs:
+            rho = RHO_MATRIX * (1.0 - phi)
+            for t, d, dia, v in hist:
+                w.writerow([series, phi, pi2, cppr, f"{t:.2f}", f"{d:.4f}", f"{dia:.4f}", f"{v:.3f}",
+                            f"{rho * v / m_over_a3:.4f}"])
+    table = []
+    pi_v0 = {}  # (series, porosity, cppr) -> pi_V of the g = 0 crater (transient)
+    for phi, pi2, cppr, run_dir, hist, series in runs:
+        if pi2 == 0.0:
+            ok = [r for r in hist if np.isfinite(r[3])]
+            pi_v0[(series, phi, cppr)] = RHO_MATRIX * (1.0 - phi) * max(r[3] for r in ok) / m_over_a3
+    for phi, pi2, cppr, run_dir, hist, series in runs:
+        rho = RHO_MATRIX * (1.0 - phi)
+        ok = [r for r in hist if np.isfinite(r[3])]
+        tr = max(ok, key=lambda r: r[3])
+        fin = ok[-1]
+        pv, pv_fin = rho * tr[3] / m_over_a3, rho * fin[3] / m_over_a3
+        row = {"series": series, "porosity": phi, "pi2": pi2, "cppr": cppr, "t_transient_aU": tr[0],
+               "depth_a": tr[1], "diameter_a": tr[2], "volume_a3": tr[3], "pi_V": pv,
+               "t_final_aU": fin[0], "diameter_final_a": fin[2], "pi_V_final": pv_fin}
+        for name, (k1, mu) in FITS.items():
+            key = "sand" if "sand" in name else "nonporous"
+            if pi2 > 0.0:
+                fit = pi_v_fit(k1, mu, pi2, rho / RHO_PROJ)
+                row["fit_" + key] = fit
+                row["ratio_" + key] = pv / fit
+                row["ratio_final_" + key] = pv_fin / fit
+            else:
+                row["fit_" + key] = row["ratio_" + key] = row["ratio_final_" + key] = math.nan
+            if (series, phi, cppr) in pi_v0:
+                S = strength_term(k1, mu, pi_v0[(series, phi, cppr)])
+                two = pi_v_two_term(k1, mu, pi2, rho / RHO_PROJ, S)
+                row["two_term_" + key] = two
+                row["ratio_two_term_" + key] = pv / two
+            else:
+                row["two_term_" + key] = row["ratio_two_term_" + key] = math.nan
+        table.append(row)
+    with open(prefix + "-table.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(table[0].keys()))
+        w.writeheader()
+        for row in table:
+            w.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in row.items()})
+    for row in table:
+        print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
+                        for k, v in row.items()))
+    plot(prefix, runs, table)
+
+
+def plot(prefix, runs, table):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.4))
+    p2 = np.logspace(-4, -2, 50)
+    for (name, (k1, mu)), ls in zip(FITS.items(), ["-", "--"]):
+        for phi, col in ((0.35, "C1"), (0.0, "C0")):
+            if fit_for(phi) == name:
+                rho = RHO_MATRIX * (1.0 - phi)
+                ax.plot(p2, pi_v_fit(k1, mu, p2, rho / RHO_PROJ), ls, color=col, label=name)
+    colours = {0.0: "C0", 0.2: "C2", 0.35: "C1"}
+    for phi, col in ((0.35, "C1"), (0.0, "C0")):
+        for name, (k1, mu) in FITS.items():
+            if fit_for(phi) != name:
+                continue
+            g0 = [r for r in table if r["pi2"] == 0.0 and r["porosity"] == phi
+                  and r["series"] == "L" and r["cppr"] == 5]
+            if g0:
+                rho = RHO_MATRIX * (1.0 - phi)
+                S = strength_term(k1, mu, g0[0]["pi_V"])
+                ax.plot(p2, pi_v_two_term(k1, mu, p2, rho / RHO_PROJ, S), ":", color=col,
+                        label=name.split(" (")[0] + " two-term, S from series L's g = 0 run")
+    markers = {"L": "o", "Lp": "^", "D": "s"}
+    for row in table:
+        if row["pi2"] == 0.0:
+            continue
+        c = colours.get(row["porosity"], "k")
+        mk = markers.get(row["series"], "x")
+        ms = 10 if row["cppr"] > 5 else 6
+        ax.plot(row["pi2"], row["pi_V"], mk, color=c, ms=ms)
+        ax.plot(row["pi2"], row["pi_V_final"], mk, color=c, mfc="none", ms=ms)
+    for phi, c in colours.items():
+        ax.plot([], [], "o", color=c, label=f"porosity {phi:.0%}")
+    for sname, mk in markers.items():
+        ax.plot([], [], mk, color="grey", label=f"series {sname} (filled: transient, open: final)")
+    ax.plot([], [], "o", color="grey", ms=10, label="large: 10 CPPR, small: 5 CPPR")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("pi_2 = 3.22 g a / U^2")
+    ax.set_ylabel("pi_V = rho V / m")
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    for phi, pi2, cppr, _, hist, series in runs:
+        if series != "L" and pi2 != 0.0:
+            continue
+        h = np.array([r for r in hist if np.isfinite(r[3])])
+        ls = {0.0: (0, (1, 1)), 3e-4: ":", 1e-3: "--", 3e-3: "-"}.get(pi2, "-.")
+        bx.plot(h[:, 0], h[:, 3], linestyle=ls, color=colours.get(phi, "k"), lw=1.6 if cppr > 5 else 1.0,
+                label=f"{series} {phi:.0%}, pi_2 {pi2:g}, {cppr} CPPR")
+    bx.set_xlabel("t (a/U)")
+    bx.set_ylabel("cavity volume below z = 0 (a^3)")
+    bx.legend(fontsize=6)
+    bx.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(prefix + ".png", dpi=110)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    main(sys.argv[1], sys.argv[2:])
