@@ -15,9 +15,10 @@ cratering do, e.g. Prieur et al. 2017, JGR Planets 122; Raducan et al. 2019, Ica
 crater radii in this family, but their text was not at hand to check their exact measure):
   - the material's surface profile: in each radial ring of width h (the cell size) the points of
     every body (impactor material lining the cavity counts as floor) are binned in z cells of h,
-    the column is followed up from the target's bottom while at most one cell in a row is empty,
-    and its top is its highest point plus half the point spacing (an undisturbed surface reads
-    its true level). Ejecta above two or more empty cells are not surface;
+    the column is followed up from the target's bottom (or from the ring's lowest point where
+    the impact pushed material below it) while at most one cell in a row is empty, and its top
+    is its highest point plus half the point spacing (an undisturbed surface reads its true
+    level), placed at that point's radius. Ejecta above two or more empty cells are not surface;
   - the pre-impact surface z_s: the median top of the target's profile at the first snapshot
     (or --surface);
   - depth = z_s - top of the axis ring (0 <= r < h);
@@ -53,9 +54,9 @@ def profile_points(r, z, h, spacing, z_bottom, r_max):
         zb, rb = z[sel], r[sel]
         if zb.size == 0:
             continue
-        iz = np.floor((zb - z_bottom) / h).astype(int)
-        if iz.max() < 0:
-            continue
+        # from the target's bottom, or from the ring's lowest point where the impact has pushed
+        # material below it (a target too shallow for its crater)
+        iz = np.floor((zb - min(z_bottom, zb.min())) / h).astype(int)
         occupied = np.zeros(iz.max() + 2, bool)
         occupied[iz[iz >= 0]] = True
         top_cell, empty_run = -1, 0
