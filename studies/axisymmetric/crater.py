@@ -3,65 +3,26 @@
 usage: crater.py RUN_DIR [RUN_DIR ...]   (prints CSV: run,time_s,t_aU,depth_m,diameter_m,...)
        as a module: crater.profile(...), crater.measure(run_dir)
 
-Definition (the transient crater as iSALE studies measure it, e.g. Prieur et al. 2017, JGR
-Planets 122, "The effect of target properties on transient crater scaling for simple craters";
-the definition as stated here, not re-checked against the paper): the cavity's depth below the
-pre-impact surface z = 0 on the axis, and its diameter at the pre-impact surface level, measured
-on the material's surface profile. The profile is the top of the material column of each radial bin (width one
-cell): the points of every body (projectile material lining the cavity counts as floor) are
-binned in z cells of one cell size, and the column is followed up from the half-space's bottom
-while at most one cell in a row is empty; its top is the highest point of the column plus half
-the initial point spacing (an undisturbed surface reads z = 0). Ejecta above a gap of two empty
-cells do not count. Depth = -top of the axis bin (0 <= r < h); diameter = twice the radius where
-the profile, walked out from the axis, first reaches z = 0 (linear between bin centres).
-Times are in units of a/U (projectile radius over impact speed), read from the scene.
+A thin wrapper kept for the studies that import it (crater_figure.py, studies/porosity): the
+measure and its definition live in tools/crater.py (the installed crater report; its docstring
+states the definition). This wrapper keeps the studies' conventions: the pre-impact surface at
+z = 0, the body named "projectile" and the box target of the half-space scenes (scene_of).
 """
 import glob
+import importlib.util
 import os
 import sys
 import tomllib
 
 import h5py
-import numpy as np
 
-
-def profile(r, z, h, spacing, z_bottom, r_max):
-    """Top of the contiguous material column in each radial bin of width h (NaN if empty)."""
-    nr = int(np.ceil(r_max / h))
-    ir = np.clip((r / h).astype(int), 0, nr - 1)
-    tops = np.full(nr, np.nan)
-    for b in range(nr):
-        zb = z[ir == b]
-        if zb.size == 0:
-            continue
-        iz = np.floor((zb - z_bottom) / h).astype(int)
-        occupied = np.zeros(iz.max() + 2, bool)
-        occupied[iz[iz >= 0]] = True
-        top_cell, empty_run = -1, 0
-        for c, filled in enumerate(occupied):
-            if filled:
-                top_cell, empty_run = c, 0
-            else:
-                empty_run += 1
-                if empty_run >= 2:
-                    break
-        if top_cell < 0:
-            continue
-        in_column = (iz >= 0) & (iz <= top_cell)
-        tops[b] = zb[in_column].max() + 0.5 * spacing
-    return tops
-
-
-def depth_and_diameter(tops, h):
-    depth = -tops[0]
-    if not depth > 0.0:
-        return depth, np.nan  # no cavity yet (the projectile still above the surface)
-    centres = (np.arange(tops.size) + 0.5) * h
-    for b in range(1, tops.size):
-        z0, z1 = tops[b - 1], tops[b]
-        if np.isfinite(z0) and np.isfinite(z1) and z0 < 0.0 <= z1:
-            return depth, 2.0 * (centres[b - 1] + (0.0 - z0) / (z1 - z0) * h)
-    return depth, np.nan
+# tools/crater.py under another module name: this file is itself imported as "crater".
+_TOOL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "crater.py")
+_spec = importlib.util.spec_from_file_location("shatter_tool_crater", _TOOL)
+_tool = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_tool)
+profile = _tool.profile
+depth_and_diameter = _tool.depth_and_diameter
 
 
 def scene_of(run_dir):

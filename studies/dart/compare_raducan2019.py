@@ -11,6 +11,9 @@ beside the row of docs/figures/dart/raducan2019_beta.csv (studies/dart/raducan20
 With --plot FILE.png (matplotlib) beta_launch(t) of each run with the reference's final beta and
 fast-ejecta beta as lines; with --csv FILE the table.
 
+Each run's crater at its last snapshot (tools/crater.py: diameter and depth against the
+pre-impact surface, cavity volume) goes into the table.
+
 With RUN=C:P:F:CPPR:CPU_S the run's resolution and CPU seconds go into the table too; the plot's
 second panel shows each run's time step dt(t) (the EOS-following shear modulus keeps it from
 collapsing in expanded ejecta; docs/validation-dart.md).
@@ -69,6 +72,19 @@ def measures(run):
     return out, ts, (m_imp, u, launches)
 
 
+def crater_at_end(run):
+    """The crater at the run's last snapshot, measured by tools/crater.py (its definition)."""
+    import importlib.util
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools",
+                        "crater.py")
+    spec = importlib.util.spec_from_file_location("shatter_tool_crater", path)
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    _, rows = tool.measure(run, last=True)
+    return {"crater_time_s": rows[-1]["time_s"], "crater_diameter_m": rows[-1]["diameter_m"],
+            "crater_depth_m": rows[-1]["depth_m"], "crater_volume_m3": rows[-1]["volume_m3"]}
+
+
 def within_radius(ours, tracer_csv):
     """beta of the ejecta launched within X of the axis, ours and theirs, X = 1 m, 2 m, ..."""
     m_imp, u, launches = ours
@@ -112,7 +128,7 @@ def main():
                "porosity_pct": key[1], "friction": key[2]}
         if len(fields) == 5:
             row.update({"cppr": fields[3], "cpu_s": fields[4]})
-        row.update({**ours, "isale_beta": float(r["beta"])})
+        row.update({**ours, **crater_at_end(run), "isale_beta": float(r["beta"])})
         for q in Q:
             row[f"isale_beta_gt_{q:g}U"] = float(r[f"beta_gt_{q:g}U"])
             row[f"isale_M_gt_{q:g}U_over_mimp"] = float(r[f"M_gt_{q:g}U_over_mimp"])

@@ -3,6 +3,7 @@ and the plot tools draw a tiny run (tests/fuzz/tiny.toml, 4 400 points, about a 
 `shatter` binary named in $SHATTER_BINARY; ctest sets it). The studies (studies/) are not tested
 here: they are records of one-off measurements."""
 
+import csv
 import math
 import os
 import subprocess
@@ -371,3 +372,94 @@ def test_qstar_plot_draws_curves_and_variants(tmp_path):
                                                    for l in lines[1:]]) + "\n")
     q.plot(str(old), str(tmp_path / "old.png"))
     assert (tmp_path / "old.png").stat().st_size > 10000
+
+
+def write_crater_run(run, rz, centre_xy=(0.0, 0.0), h=0.1, depth=0.8, radius=1.0):
+    """A run folder with a known crater: a lattice half-space (points spaced s = h/2, top at
+    z = 0) struck along -z at centre_xy; snapshot 0 the intact target with the impactor above it,
+    snapshot 1 the target with a paraboloid cavity z >= -depth (1 - r^2 / radius^2) removed and
+    the impactor's points thrown 3 m up (ejecta in flight: not surface). r-z: x is r; 3-D: a
+    half model (y >= 0) with the crater's axis at centre_xy."""
+    import h5py
+    import numpy as np
+    s = h / 2.0
+    run.mkdir()
+    geometry = 'geometry = "axisymmetric"\n' if rz else ""
+    (run / "scene.toml").write_text(
+        f'[solver]\n{geometry}cell_size = {h}\n'
+        '[body.impactor]\nradius = 0.2\nvelocity = [0.0, 0.0, -1000.0]\npoints_per_cell = 2\n'
+        '[body.target]\npoints_per_cell = 2\n'
+        '[beta]\nimpactor = "impactor"\n')
+    zs = -(np.arange(int(1.4 / s)) + 0.5) * s
+    if rz:
+        xs, ys = (np.arange(int(2.0 / s)) + 0.5) * s, np.zeros(1)
+    else:
+        xs = centre_xy[0] - 1.6 + (np.arange(int(3.2 / s)) + 0.5) * s
+        ys = (np.arange(int(1.6 / s)) + 0.5) * s
+    X, Y, Z = (g.ravel() for g in np.meshgrid(xs, ys, zs, indexing="ij"))
+    target = np.stack([X, Y, Z], 1)
+    r = np.hypot(X - centre_xy[0] * (not rz), Y - centre_xy[1] * (not rz))
+    cavity = (r < radius) & (Z > -depth * (1.0 - (r / radius) ** 2))
+    # On the axis (3-D: its centre off the symmetry plane y = 0, as a half model's points are).
+    impactor = np.array([[centre_xy[0] * (not rz), 0.0 if rz else s / 2, 0.5 + k * s]
+                         for k in range(4)])
+    (run / "snapshots").mkdir()
+    for i, (pts, imp_z) in enumerate([(target, 0.0), (target[~cavity], 3.0)]):
+        imp = impactor + [0.0, 0.0, imp_z]
+        with h5py.File(run / "snapshots" / f"snapshot_{i:06d}.h5", "w") as f:
+            f.attrs["time"] = 1e-3 * i
+            f.attrs["symmetry_axis"] = 1 if rz else 2  # r-z: the axis x = 0; 3-D: the plane y = 0
+            f["particles/position"] = np.concatenate([imp, pts])
+            f["particles/body"] = np.array([0] * len(imp) + [1] * len(pts), dtype=np.int64)
+            f["particles/mass"] = np.ones(len(imp) + len(pts))
+            f["names/body"] = np.array([b"impactor", b"target"])
+            f["names/material"] = np.array([b"al", b"rock"])
+
+
+@pytest.mark.parametrize("rz", [True, False])
+def test_crater_measures_a_known_paraboloid(tmp_path, rz):
+    """tools/crater.py on a hand-built crater (write_crater_run): depth 0.8 m, diameter 2 m,
+    volume pi R^2 d / 2 = 1.2566 m^3 of a paraboloid. Tolerances from the measure's
+    discretisation: the profile's top is exact to half a point spacing (s/2 = 0.025 m) in z, so
+    the depth to s/2; the diameter to one ring width h = 0.1 m (ring centres against the wall's
+    crossing, both sides); the volume to pi R^2 s/2 = 0.079 m^3 (6%; a shift of the whole floor by
+    s/2). A wrong weight (2 pi r dr vs dr), unit or surface level misses these by far more."""
+    import numpy as np
+    run = tmp_path / "run"
+    write_crater_run(run, rz, centre_xy=(0.3, 0.0))
+    r = run_tool_crater(run, "--csv", str(tmp_path / "c.csv"))
+    assert r.returncode == 0, r.stderr
+    assert "pre-impact surface z = 0 m" in r.stderr, r.stderr
+    rows = list(csv.DictReader(open(tmp_path / "c.csv")))
+    assert len(rows) == 2
+    first, last = ({k: float(v) for k, v in row.items() if k != "run"} for row in rows)
+    # Intact surface: depth 0 to rounding, no crater (the impactor is 5 empty cells above).
+    assert abs(first["depth_m"]) < 1e-12 and math.isnan(first["diameter_m"])
+    assert abs(last["depth_m"] - 0.8) <= 0.025
+    assert abs(last["diameter_m"] - 2.0) <= 0.1
+    assert abs(last["volume_m3"] - np.pi * 0.4) <= np.pi * 0.025
+    assert abs(last["t_aU"] - 1e-3 * 1000.0 / 0.2) < 1e-9
+    assert last["depth_a"] == last["depth_m"] / 0.2
+    # --surface -0.1: the paraboloid cut 0.1 m lower, depth 0.7, radius R' = sqrt(1 - 0.1 / 0.8),
+    # volume pi R'^2 0.7 / 2 (same tolerances).
+    only = run_tool_crater(run, "--last", "--surface", "-0.1")
+    assert only.returncode == 0, only.stderr
+    lowered = [{k: float(v) for k, v in row.items() if k != "run"}
+               for row in csv.DictReader(only.stdout.splitlines())]
+    r2 = 1.0 - 0.1 / 0.8
+    assert len(lowered) == 1 and abs(lowered[0]["depth_m"] - 0.7) <= 0.025
+    assert abs(lowered[0]["diameter_m"] - 2.0 * math.sqrt(r2)) <= 0.1
+    assert abs(lowered[0]["volume_m3"] - np.pi * r2 * 0.35) <= np.pi * r2 * 0.025
+
+
+def test_crater_refuses_an_oblique_impact(tmp_path):
+    run = tmp_path / "run"
+    write_crater_run(run, True)
+    scene = (run / "scene.toml").read_text().replace("[0.0, 0.0, -1000.0]", "[500.0, 0.0, -866.0]")
+    (run / "scene.toml").write_text(scene)
+    r = run_tool_crater(run)
+    assert r.returncode != 0 and "head-on craters only" in r.stderr, r.stderr
+
+
+def run_tool_crater(run_dir, *args):
+    return run([PYTHON, os.path.join(TOOLS, "crater.py"), str(run_dir), *args])
