@@ -19,10 +19,10 @@
 
 #include "shatter/fracture/flaws.hpp"
 #include "shatter/fracture/fragments.hpp"
-#include "support/sanitizers.hpp"
 #include "shatter/material/catalogue.hpp"
 #include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
+#include "support/sanitizers.hpp"
 
 using namespace shatter;
 
