@@ -19,6 +19,7 @@
 #include "porous_jump.hpp"
 #include "shatter/sph/solver.hpp"
 #include "support/lattice.hpp"
+#include "support/sanitizers.hpp"
 
 namespace shatter {
 namespace {
@@ -90,6 +91,14 @@ class PorousHugoniotSph : public ::testing::TestWithParam<std::tuple<bool, doubl
 
 TEST_P(PorousHugoniotSph, CompactedStateAndShockSpeedMatchJumpConditions) {
   const auto [p_alpha, a0] = GetParam();
+  if (test::kUnderSanitizers && !p_alpha) {
+    // 186 s under the sanitizers (session 16's CI), 3.6 s in Release. Sanitized elsewhere: the
+    // eps-alpha kernel through the MPM step (EpsAlpha/PorousHugoniot, alpha0 1.25-2) and the
+    // SPH step with a porous material (PAlpha/PorousHugoniotSph below); this case's bounds are
+    // a Release check (support/sanitizers.hpp).
+    GTEST_SKIP() << "eps-alpha through SPH: Release only (paths sanitized by the MPM eps-alpha "
+                    "and SPH P-alpha cases)";
+  }
   const double up = 500.0, s = 1e-3;
   const Jump j = porous_jump(p_alpha, a0, up);
   const Measured m = run_impact(p_alpha, a0, up, s, j);

@@ -22,6 +22,7 @@
 #include "shatter/material/catalogue.hpp"
 #include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
+#include "support/sanitizers.hpp"
 
 using namespace shatter;
 
@@ -150,6 +151,16 @@ TEST(TensileRod, BreaksAcrossTheLoadAndMorePiecesWhenPulledFaster) {
   // intact stress had been divided by (1 - D) twice) cracks grow more slowly: at 60 us the rod
   // is still whole (6.8% failed), at 80 us it is in 2 pieces, at 100 us a third crack has begun
   // (seed 1995). Fast pull: six times the rate (BA95 compare a factor 6), over 60 us.
+  if (test::kUnderSanitizers) {
+    // Reduced form (support/sanitizers.hpp): the fast pull alone (60 us, 38 % of the test's
+    // time) runs the same flaws, damage, Eq. 18 crack growth and fragment search; that it breaks
+    // is checked. The slow pull's crack geometry and the rate dependence are Release checks.
+    const RodResult fast = pull(60.0, 60e-6);
+    std::printf("fast: pieces %zu, failed %.3f\n", fast.pieces, fast.failed_fraction);
+    EXPECT_GE(fast.pieces, 2U);
+    EXPECT_GT(fast.failed_fraction, 0.0);
+    return;
+  }
   const RodResult slow = pull(10.0, 80e-6);
   const RodResult fast = pull(60.0, 60e-6);
   for (const RodResult* r : {&slow, &fast})

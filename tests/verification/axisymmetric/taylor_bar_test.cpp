@@ -19,6 +19,7 @@
 #include "shatter/core/solver.hpp"
 #include "shatter/scene/build.hpp"
 #include "shatter/scene/scene.hpp"
+#include "support/sanitizers.hpp"
 
 using namespace shatter;
 
@@ -76,6 +77,10 @@ TEST(TaylorBar, RzAgreesWith3dAndTheBenchmark) {
   const Shape d3 = run("taylor-3d.toml", 0.8e-3);
   EXPECT_NEAR(rz.length / d3.length, 1.0, 0.01);
   EXPECT_NEAR(rz.radius / d3.radius, 1.0, 0.04);
+  // Reduced form under the sanitizers (support/sanitizers.hpp): the 0.4 mm r-z run (45 % of the
+  // test's time) runs the same r-z code as the 0.8 mm one above; its benchmark bounds are
+  // Release checks.
+  if (test::kUnderSanitizers) return;
   const Shape fine = run("taylor-rz.toml", 0.4e-3);
   EXPECT_NEAR(fine.length / 21.55e-3, 1.0, 0.025);
   EXPECT_NEAR(fine.radius / 7.1e-3, 1.0, 0.04);

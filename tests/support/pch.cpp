@@ -1,0 +1,2 @@
+// The translation unit that builds the test programs' precompiled header (pch.hpp); it defines
+// nothing.
