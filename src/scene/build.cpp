@@ -85,11 +85,13 @@ BuiltScene build(const Scene& scene) {
     }
   }
   const gravity::GravityConfig& g = scene.solver.self_gravity;
-  if (g.equilibrium && g.self) gravity::set_equilibrium(P, s.materials, g.G);  // lithostatic start
-  if (g.equilibrium && !g.self) {  // the uniform field's lithostatic start
-    const auto& d = scene.solver.domain;
-    gravity::set_uniform_equilibrium(P, s.materials, -scene.solver.gravity.z(), d.lo.z(),
-                                     scene.solver.cell_size);
+  // The lithostatic start: under self-gravity, or else under the uniform field along -z with a
+  // floor (parse_gravity.cpp refuses any other set-up).
+  if (g.equilibrium && g.self) {
+    gravity::set_equilibrium(P, s.materials, g.G);
+  } else if (g.equilibrium) {
+    gravity::set_uniform_equilibrium(P, s.materials, -scene.solver.gravity.z(),
+                                     scene.solver.domain.lo.z(), scene.solver.cell_size);
   }
   return s;
 }
