@@ -146,16 +146,8 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
       g2p_gather<false>(stencil, win, s, t);
     }
   };
-  for (const std::uint32_t p : particles) {
-    alignas(64) double s[8];
-    alignas(32) double t[4] = {};
-    if (stored) {  // the engine's case: read in place (StoredStencil)
-      gather(StoredStencil<Shape>(in.stencil, p), s, t);
-    } else {
-      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
-      gather(st, s, t);
-    }
+  // The particle's update from its gathered sums s (acceleration, velocity) and t (filtered).
+  const auto update = [&](std::uint32_t p, const double(&s)[8], const double(&t)[4]) {
     const double ax = s[0], ay = s[1], az = s[2], ux = s[3], uy = s[4], uz = s[5];
     const double wx = filtered ? t[0] : ux, wy = filtered ? t[1] : uy, wz = filtered ? t[2] : uz;
     const double v0[3] = {in.vx[p], in.vy[p], in.vz[p]};
@@ -183,6 +175,29 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
     in.dy[p] = in.dt_position * uy;
     in.dz[p] = in.dt_position * uz;
     after(p, v0);
+  };
+  if constexpr (kRecomputedRows<Shape>) {
+    if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP case
+      for_each_recomputed<Shape>(in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
+        alignas(64) double s[8];
+        alignas(32) double t[4] = {};
+        gather(stencil, s, t);
+        update(p, s, t);
+      });
+      return;
+    }
+  }
+  for (const std::uint32_t p : particles) {
+    alignas(64) double s[8];
+    alignas(32) double t[4] = {};
+    if (stored) {  // read in place (StoredStencil)
+      gather(StoredStencil<Shape>(in.stencil, p), s, t);
+    } else {
+      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+      gather(st, s, t);
+    }
+    update(p, s, t);
   }
 }
 

@@ -223,6 +223,15 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
   p2g_clear<kForce, kLanes>(s);
   Stencil<Shape> st;
   const bool stored = in.stencil.mode == StencilCache::kLoad;
+  if constexpr (kLanes && kRecomputedRows<Shape>) {
+    if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP FLIP scatters
+      for_each_recomputed<Shape>(in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
+        p2g_lanes<kForce, kAxisymmetric>(stencil, p2g_point<kForce, kAxisymmetric>(in, p), s);
+      });
+      p2g_flush<kForce, kLanes>(s, neighbours, nodes);
+      return;
+    }
+  }
   for (const std::uint32_t p : particles) {
     const P2GPoint pt = p2g_point<kForce, kAxisymmetric>(in, p);
     if (kLanes && stored) {  // the engine's FLIP scatters: the stored row read in place

@@ -3,8 +3,16 @@
 // stencil inside the particle's owner block (see SparseGrid).
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <span>
+#include <type_traits>
+
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
+#define SHATTER_AVX512_ROWS 1
+#include <immintrin.h>
+#endif
 
 #include "mpm/shape.hpp"
 #include "shatter/grid/sparse_grid.hpp"
@@ -19,12 +27,156 @@ namespace shatter::kernels {
 // callers without a cache. The four passes now use one set of weights per particle; before,
 // each evaluated them in its own inlined code, where the compiler's FMA contraction of
 // x / h - floor could differ in the last bits (docs/performance.md).
+//
+// kRecompute (uGIMP only, kRecomputedRows): nothing is stored; every read computes the row again
+// from the positions and sizes (recomputed_rows, below), with the operations of store_stencils,
+// so the same bits, and 145 B per particle less held through the step.
 struct StencilCache {
-  enum Mode : std::uint8_t { kCompute, kStore, kLoad };
+  enum Mode : std::uint8_t { kCompute, kStore, kLoad, kRecompute };
   double* w = nullptr;          // per particle: w[3][W] then dw[3][W] (6 W doubles)
   std::uint8_t* off = nullptr;  // per particle: off[0] | off[1] << 2 | off[2] << 4
   Mode mode = kCompute;
+  // kRecompute: what a row is computed from (store_stencils' arguments).
+  const double* x[3] = {nullptr, nullptr, nullptr};
+  const double* size0 = nullptr;
+  double inv_h = 0.0;
+  bool axisymmetric = false;
 };
+
+// The shapes whose rows the engine recomputes at every read instead of storing them.
+template <class Shape>
+inline constexpr bool kRecomputedRows = std::is_same_v<Shape, GimpShape>;
+
+// One uGIMP row exactly as store_stencils<GimpShape> stores it, for one particle at a time:
+// weights and derivatives of axis d at w[(d W + a) stride] and w[((3 + d) W + a) stride].
+// store_stencils' loop is compiled with contraction (GCC's -ffp-contract=fast): xi = x / h enters
+// both subtractions of GimpShape::weights fused, floor(fma(x, 1/h, -1/2)) and fma(x, 1/h, -fl),
+// and d^2 + lp^2 as fma(d, d, lp^2) (found by comparing 2^20 random particles against the stored
+// rows, tests/unit/mpm/stencil_cache_test.cpp). Here those fusions are written out (std::fma) and
+// no other product meets a sum, so the bits do not depend on the compiler's contraction. Of the
+// four pieces of GimpShape::node, the one that applies is selected before dividing (2 divisions
+// per node instead of 4): the selected quotient has the same operands, so the same bits.
+namespace gimp_rows {
+
+inline int axis(double x, double inv_h, double lp, double* w, double* dw, int stride) {
+  const double fl = std::floor(std::fma(x, inv_h, -0.5));
+  const double f = std::fma(x, inv_h, -fl);
+  const double lp2 = lp * lp, two = 2.0 * lp, four = 4.0 * lp;
+  for (int a = 0; a < 3; ++a) {
+    const double d = f - a;
+    const double ad = std::abs(d);
+    const double s = d < 0.0 ? -1.0 : 1.0;
+    const double r = 1.0 + lp - ad;
+    const bool in = ad <= lp, mid = ad <= 1.0 - lp, out = ad <= 1.0 + lp;
+    const double qw = (in ? std::fma(d, d, lp2) : r * r) / (in ? two : four);
+    const double qd = (in ? -d : -s * r) / (in ? lp : two);
+    w[a * stride] = in ? 1.0 - qw : mid ? 1.0 - ad : out ? qw : 0.0;
+    dw[a * stride] = in ? qd : mid ? -s : out ? qd : 0.0;
+  }
+  return static_cast<int>(fl);
+}
+
+// Particle p's row (18 doubles at `row`, stride apart) and packed offsets.
+inline std::uint8_t row(const StencilCache& c, std::size_t p, double* row, int stride) {
+  constexpr int mask = 3;
+  const double lp = std::min(0.5 * c.size0[p] * c.inv_h, 0.5);
+  unsigned packed = 0;
+  for (int d = 0; d < 3; ++d) {
+    double* w = row + d * 3 * stride;
+    double* dw = row + (9 + d * 3) * stride;
+    if (c.axisymmetric && d == 1) {  // degenerate_weights
+      for (int a = 0; a < 3; ++a) w[a * stride] = dw[a * stride] = 0.0;
+      w[0] = 1.0;
+      continue;
+    }
+    packed |= static_cast<unsigned>(axis(c.x[d][p], c.inv_h, lp, w, dw, stride) & mask) << (2 * d);
+  }
+  return static_cast<std::uint8_t>(packed);
+}
+
+}  // namespace gimp_rows
+
+// Rows of up to kStencilBatch particles side by side: value j of the row (w[3][3], dw[3][3]) of
+// the k-th particle at rows[j kStencilBatch + k].
+inline constexpr int kStencilBatch = 8;
+
+// The rows of particles idx[0..count) (count <= kStencilBatch). With AVX-512, eight particles
+// per vector, each lane doing gimp_rows::axis's operations in its order (the same bits);
+// otherwise particle by particle.
+inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int count,
+                            double* rows, std::uint8_t* off) {
+#if defined(SHATTER_AVX512_ROWS)
+  static_assert(kStencilBatch == 8);
+  alignas(64) double xs[3][8], ss[8];
+  for (int k = 0; k < 8; ++k) {
+    const std::uint32_t p = idx[k < count ? k : count - 1];  // the tail repeats the last one
+    for (int d = 0; d < 3; ++d) xs[d][k] = c.x[d][p];
+    ss[k] = c.size0[p];
+  }
+  // The masked forms (all lanes) of min, roundscale and the conversions: GCC 12's unmasked ones
+  // start from _mm512_undefined_pd, which -Wmaybe-uninitialized reports. min(half, v) returns v
+  // unless half < v, as std::min(v, half).
+  const __m512d ih = _mm512_set1_pd(c.inv_h), half = _mm512_set1_pd(0.5);
+  const __m512d one = _mm512_set1_pd(1.0), zero = _mm512_setzero_pd();
+  const __m512d sign = _mm512_set1_pd(-0.0);  // -v as xor(v, sign): C's negation, zeros too
+  const __m512d lp =
+      _mm512_maskz_min_pd(0xFF, half, _mm512_mul_pd(_mm512_mul_pd(half, _mm512_load_pd(ss)), ih));
+  const __m512d lp2 = _mm512_mul_pd(lp, lp);
+  const __m512d two = _mm512_mul_pd(_mm512_set1_pd(2.0), lp);
+  const __m512d four = _mm512_mul_pd(_mm512_set1_pd(4.0), lp);
+  const __m512d opl = _mm512_add_pd(one, lp), oml = _mm512_sub_pd(one, lp);
+  __m256i packed = _mm256_setzero_si256();
+  for (int d = 0; d < 3; ++d) {
+    double* w = rows + d * 3 * 8;
+    double* dw = rows + (9 + d * 3) * 8;
+    if (c.axisymmetric && d == 1) {
+      for (int a = 0; a < 3; ++a) {
+        _mm512_store_pd(w + a * 8, a == 0 ? one : zero);
+        _mm512_store_pd(dw + a * 8, zero);
+      }
+      continue;
+    }
+    const __m512d x = _mm512_load_pd(xs[d]);
+    const __m512d fl =
+        _mm512_maskz_roundscale_pd(0xFF, _mm512_fmadd_pd(x, ih, _mm512_set1_pd(-0.5)),
+                                   _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    const __m512d f = _mm512_fmadd_pd(x, ih, _mm512_xor_pd(fl, sign));
+    const __m256i first = _mm512_maskz_cvttpd_epi32(0xFF, fl);
+    packed = _mm256_or_si256(
+        packed,
+        _mm256_sllv_epi32(_mm256_and_si256(first, _mm256_set1_epi32(3)), _mm256_set1_epi32(2 * d)));
+    for (int a = 0; a < 3; ++a) {
+      const __m512d dd = _mm512_sub_pd(f, _mm512_set1_pd(static_cast<double>(a)));
+      const __m512d ad = _mm512_abs_pd(dd);
+      const __mmask8 neg = _mm512_cmp_pd_mask(dd, zero, _CMP_LT_OQ);
+      const __m512d ms = _mm512_mask_blend_pd(neg, _mm512_set1_pd(-1.0), one);  // -s
+      const __m512d r = _mm512_sub_pd(opl, ad);
+      const __mmask8 in = _mm512_cmp_pd_mask(ad, lp, _CMP_LE_OQ);
+      const __mmask8 mid = _mm512_cmp_pd_mask(ad, oml, _CMP_LE_OQ);
+      const __mmask8 out = _mm512_cmp_pd_mask(ad, opl, _CMP_LE_OQ);
+      const __m512d qw =
+          _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(r, r), _mm512_fmadd_pd(dd, dd, lp2)),
+                        _mm512_mask_blend_pd(in, four, two));
+      const __m512d qd =
+          _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(ms, r), _mm512_xor_pd(dd, sign)),
+                        _mm512_mask_blend_pd(in, two, lp));
+      __m512d wv = _mm512_maskz_mov_pd(out, qw);
+      wv = _mm512_mask_blend_pd(mid, wv, _mm512_sub_pd(one, ad));
+      wv = _mm512_mask_blend_pd(in, wv, _mm512_sub_pd(one, qw));
+      __m512d dv = _mm512_maskz_mov_pd(out, qd);
+      dv = _mm512_mask_blend_pd(mid, dv, ms);
+      dv = _mm512_mask_blend_pd(in, dv, qd);
+      _mm512_store_pd(w + a * 8, wv);
+      _mm512_store_pd(dw + a * 8, dv);
+    }
+  }
+  alignas(16) std::uint8_t o[16];
+  _mm_store_si128(reinterpret_cast<__m128i*>(o), _mm256_maskz_cvtepi32_epi8(0xFF, packed));
+  for (int k = 0; k < count; ++k) off[k] = o[k];
+#else
+  for (int k = 0; k < count; ++k) off[k] = gimp_rows::row(c, idx[k], rows + k, kStencilBatch);
+#endif
+}
 
 template <class Shape>
 struct Stencil {
@@ -69,6 +221,21 @@ struct Stencil {
         first[d] = base[d] + off[d];
       }
       return;
+    }
+    if constexpr (kRecomputedRows<Shape>) {
+      if (cache.mode == StencilCache::kRecompute) {  // the row store_stencils would store
+        double row[kRow];
+        const unsigned o = gimp_rows::row(cache, p, row, 1);
+        std::copy(row, row + 3 * W, &w[0][0]);
+        std::copy(row + 3 * W, row + kRow, &dw[0][0]);
+        const int base[3] = {owner.x * SparseGrid::kBlock, owner.y * SparseGrid::kBlock,
+                             owner.z * SparseGrid::kBlock};
+        for (int d = 0; d < 3; ++d) {
+          off[d] = static_cast<int>((o >> (2 * d)) & 3U);
+          first[d] = base[d] + off[d];
+        }
+        return;
+      }
     }
     compute(xi, half_size, owner);
     if (cache.mode == StencilCache::kStore) {
@@ -115,6 +282,42 @@ struct StoredStencil {
     for (int d = 0; d < 3; ++d) off[d] = static_cast<int>((o >> (2 * d)) & 3U);
   }
 };
+
+// A recomputed row read where recomputed_rows put it (kStencilBatch apart): st.w[d][a] and
+// st.dw[d][a] as for a StoredStencil.
+template <class Shape>
+struct BatchStencil {
+  static constexpr int W = Shape::kWidth;
+  struct Axis {
+    const double* p;
+    double operator[](int a) const { return p[a * kStencilBatch]; }
+  };
+  struct Table {
+    const double* p;
+    Axis operator[](int d) const { return {p + d * W * kStencilBatch}; }
+  };
+  Table w, dw;
+  int off[3];
+  BatchStencil(const double* rows, int k, std::uint8_t o)
+      : w{rows + k}, dw{rows + 3 * W * kStencilBatch + k} {
+    for (int d = 0; d < 3; ++d) off[d] = static_cast<int>((o >> (2 * d)) & 3U);
+  }
+};
+
+// body(stencil, p) for every particle p of `particles` in order, with its row recomputed
+// (kRecompute, kRecomputedRows<Shape>) kStencilBatch particles at a time.
+template <class Shape, class Body>
+void for_each_recomputed(const StencilCache& cache, std::span<const std::uint32_t> particles,
+                         Body&& body) {
+  static_assert(kRecomputedRows<Shape>);
+  alignas(64) double rows[Stencil<Shape>::kRow * kStencilBatch];
+  std::uint8_t off[kStencilBatch];
+  for (std::size_t k0 = 0; k0 < particles.size(); k0 += kStencilBatch) {
+    const int count = static_cast<int>(std::min<std::size_t>(kStencilBatch, particles.size() - k0));
+    recomputed_rows(cache, particles.data() + k0, count, rows, off);
+    for (int k = 0; k < count; ++k) body(BatchStencil<Shape>(rows, k, off[k]), particles[k0 + k]);
+  }
+}
 
 // Global node index of stencil node (a, b, c) of a Stencil or a StoredStencil (Stencil::node).
 template <class St>

@@ -78,15 +78,8 @@ void velocity_gradient_block(const GradientParticles& in, std::span<const std::u
   win.load(neighbours, fields, 3);
   Stencil<Shape> st;
   const bool stored = in.stencil.mode == StencilCache::kLoad;
-  for (const std::uint32_t p : particles) {
-    alignas(32) double L[3][4];
-    if (stored) {  // the engine's case: read in place (StoredStencil)
-      velocity_gradient_gather(StoredStencil<Shape>(in.stencil, p), win, L);
-    } else {
-      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
-      velocity_gradient_gather(st, win, L);
-    }
+  // The particle's increments from its gathered L.
+  const auto update = [&](std::uint32_t p, double(&L)[3][4]) {
     if constexpr (kAxisymmetric) L[1][1] = L[0][3] / (in.x[p] * in.inv_h);  // cell units
     if (in.vgrad[0] != nullptr) {
       for (int r = 0; r < 3; ++r) {
@@ -104,6 +97,27 @@ void velocity_gradient_block(const GradientParticles& in, std::span<const std::u
     in.wyz[p] = 0.5 * k * (L[1][2] - L[2][1]);
     in.wxz[p] = 0.5 * k * (L[0][2] - L[2][0]);
     in.rho[p] /= 1.0 + k * (L[0][0] + L[1][1] + L[2][2]);  // App. A.2 step 7
+  };
+  if constexpr (kRecomputedRows<Shape>) {
+    if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP case
+      for_each_recomputed<Shape>(in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
+        alignas(32) double L[3][4];
+        velocity_gradient_gather(stencil, win, L);
+        update(p, L);
+      });
+      return;
+    }
+  }
+  for (const std::uint32_t p : particles) {
+    alignas(32) double L[3][4];
+    if (stored) {  // read in place (StoredStencil)
+      velocity_gradient_gather(StoredStencil<Shape>(in.stencil, p), win, L);
+    } else {
+      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
+      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+      velocity_gradient_gather(st, win, L);
+    }
+    update(p, L);
   }
 }
 

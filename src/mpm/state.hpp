@@ -130,6 +130,25 @@ struct State {
   kernels::StencilCache stencils(kernels::StencilCache::Mode mode) {
     return {stencil_w.data(), stencil_off.data(), mode};
   }
+  // What the transfers read the step's stencils from: the rows the sort stage stored, or for
+  // uGIMP (kernels::kRecomputedRows) the positions and sizes they are recomputed from at every
+  // read, with the same bits (kernels::StencilCache::kRecompute).
+  template <class Shape>
+  kernels::StencilCache stencil_rows() {
+    if constexpr (!kernels::kRecomputedRows<Shape>) {
+      return stencils(kernels::StencilCache::kLoad);
+    } else {
+      kernels::StencilCache c;
+      c.mode = kernels::StencilCache::kRecompute;
+      c.x[0] = particles.col(Field::x).data();
+      c.x[1] = particles.col(Field::y).data();
+      c.x[2] = particles.col(Field::z).data();
+      c.size0 = particles.col(Field::size0).data();
+      c.inv_h = inv_h();
+      c.axisymmetric = config.geometry == Geometry::axisymmetric;
+      return c;
+    }
+  }
 };
 
 }  // namespace shatter::mpm

@@ -43,7 +43,7 @@ void scatter_pass(State& s) {
   ParticleStore& P = s.particles;
   SparseGrid& grid = s.grid;
   kernels::G2PParticles in = g2p_inputs(P, s.inv_h(), nullptr, nullptr, nullptr);
-  in.stencil = s.stencils(kernels::StencilCache::kLoad);
+  in.stencil = s.stencil_rows<Shape>();
   FilterArrays& f = s.filter;
   double* w[3] = {f.w[0].data(), f.w[1].data(), f.w[2].data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),

@@ -14,7 +14,7 @@ void g2p(State& s) {
   ParticleStore& P = s.particles;
   Scratch& sc = s.scratch;
   kernels::G2PParticles in = g2p_inputs(P, s.inv_h(), sc.dx.data(), sc.dy.data(), sc.dz.data());
-  in.stencil = s.stencils(kernels::StencilCache::kLoad);
+  in.stencil = s.stencil_rows<Shape>();
   in.dt_velocity = 0.5 * (s.clock.dt_prev + s.dt_step);
   in.dt_position = s.dt_step;
   // The share of the filtered grid velocity in the particle update (TransferPolicy).

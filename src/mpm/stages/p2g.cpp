@@ -77,7 +77,6 @@ kernels::P2GParticles scatter_inputs(State& s, bool with_force, double* const* v
     in.vz = velocity[2];
   }
   if (s.transfer.affine) vgrad_columns(P, in.vgrad);
-  in.stencil = s.stencils(kernels::StencilCache::kLoad);
   Scratch& sc = s.scratch;
   if (with_force) {
     if (s.config.body_force) {
@@ -101,7 +100,8 @@ kernels::P2GParticles scatter_inputs(State& s, bool with_force, double* const* v
 
 template <class Shape>
 void p2g(State& s, bool with_force, double* const* velocity) {
-  const kernels::P2GParticles in = scatter_inputs(s, with_force, velocity);
+  kernels::P2GParticles in = scatter_inputs(s, with_force, velocity);
+  in.stencil = s.stencil_rows<Shape>();
   SparseGrid& grid = s.grid;
   if (grid.has_copies()) {
     p2g_bodies<Shape>(s, in, with_force);

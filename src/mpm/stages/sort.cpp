@@ -39,8 +39,10 @@ void sort(State& s) {
   Scratch& sc = s.scratch;
   for (auto* v : {&sc.dx, &sc.dy, &sc.dz, &sc.kinetic, &sc.kinetic_transferred}) v->resize(n);
   sc.potential.resize(s.uniform_gravity() ? n : 0);  // none without gravity (Scratch)
-  s.stencil_w.resize(n * kernels::Stencil<Shape>::kRow);
-  s.stencil_off.resize(n);
+  // uGIMP's rows are recomputed at every read (State::stencil_rows): none stored.
+  constexpr bool stored = !kernels::kRecomputedRows<Shape>;
+  s.stencil_w.resize(stored ? n * kernels::Stencil<Shape>::kRow : 0);
+  s.stencil_off.resize(stored ? n : 0);
 
   compute_keys<Shape>(s);
   check_finite(s);
@@ -60,22 +62,24 @@ void sort(State& s) {
     parallel::build_halo_plan(s);
   }
   const double ih = s.inv_h();
-  // Each particle's stencil at x^n, read by every transfer of the step (P2G, G2P, remap,
-  // velocity gradient: kernels::StencilCache).
-  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
-  const double* size0 = P.col(Field::size0).data();
-  const kernels::StencilCache cache = s.stencils(kernels::StencilCache::kStore);
-  const bool rz = s.config.geometry == Geometry::axisymmetric;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      if (rz) {
-                        kernels::store_stencils<Shape, true>(X, size0, ih, r.begin(), r.end(),
-                                                             cache);
-                      } else {
-                        kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
-                      }
-                    });
-  if (s.driven) s.driven->scatter<Shape>(P, s.grid, s.stencils(kernels::StencilCache::kLoad), ih);
+  if constexpr (stored) {
+    // Each particle's stencil at x^n, read by every transfer of the step (P2G, G2P, remap,
+    // velocity gradient: kernels::StencilCache).
+    const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+    const double* size0 = P.col(Field::size0).data();
+    const kernels::StencilCache cache = s.stencils(kernels::StencilCache::kStore);
+    const bool rz = s.config.geometry == Geometry::axisymmetric;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        if (rz) {
+                          kernels::store_stencils<Shape, true>(X, size0, ih, r.begin(), r.end(),
+                                                               cache);
+                        } else {
+                          kernels::store_stencils<Shape>(X, size0, ih, r.begin(), r.end(), cache);
+                        }
+                      });
+  }
+  if (s.driven) s.driven->scatter<Shape>(P, s.grid, s.stencil_rows<Shape>(), ih);
 }
 
 // kAxisymmetric: the y stencil is the node y = 0 alone (kernels::store_stencils), in block 0.

@@ -13,7 +13,7 @@ template <class Shape>
 void velocity_gradient(State& s) {
   ParticleStore& P = s.particles;
   kernels::GradientParticles in = gradient_inputs(P, s.inv_h(), s.dt_step);
-  in.stencil = s.stencils(kernels::StencilCache::kLoad);
+  in.stencil = s.stencil_rows<Shape>();
   if (s.transfer.affine) vgrad_columns(P, in.vgrad);
   const bool rz = s.config.geometry == Geometry::axisymmetric;  // the hoop rate v_r / r
   for_each_run<kernels::GradientWindow>(

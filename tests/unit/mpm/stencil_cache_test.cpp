@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -82,6 +83,89 @@ TEST(StencilCache, StoredStencilsMatchComputedBSpline2) {
 }
 TEST(StencilCache, StoredStencilsMatchComputedLinear) {
   check_cache_matches_compute<LinearShape>();
+}
+
+// uGIMP rows are recomputed at every read (StencilCache::kRecompute) instead of stored: the
+// batch (recomputed_rows, eight particles per vector with AVX-512), the single-particle form
+// (Stencil::prepare) and the stored rows of store_stencils must hold the same bits, on 3-D and
+// r-z rows. The cloud adds the cases where a piece of GimpShape::node changes: distances of
+// exactly lp, 1 - lp and 1 + lp, particles on a node (d = +-0), x = -0, sizes clamped to half a
+// cell and points at negative coordinates. Bitwise where the build contracts into FMAs as the
+// engine's (store_stencils' x / h then has fused remainders); otherwise within round-off.
+void check_recomputed_rows(bool axisymmetric) {
+  Cloud c(1 << 15);
+  const double h = 1.0 / c.inv_h;
+  for (int k = 0; k < 2000; ++k) {  // piece boundaries, with lp = 0.25 and lp = 0.5
+    const double size = k % 2 == 0 ? 0.5 * h : 1.3 * h;
+    const double lp = std::min(0.5 * size * c.inv_h, 0.5);
+    const double at[] = {0.0, lp, 1.0 - lp, 1.0 + lp, -lp, 0.5};
+    const double node = static_cast<double>(k % 23 - 11);
+    c.x.push_back((node + at[k % 6]) * h);
+    c.y.push_back((node + at[(k / 6) % 6] + 0.5) * h);
+    c.z.push_back(k % 7 == 0 ? -0.0 : (node - at[(k / 36) % 6]) * h);
+    c.size0.push_back(size);
+  }
+  const std::size_t n = c.x.size();
+  std::vector<double> w(n * Stencil<GimpShape>::kRow);
+  std::vector<std::uint8_t> off(n);
+  const double* X[3] = {c.x.data(), c.y.data(), c.z.data()};
+  const StencilCache store{w.data(), off.data(), StencilCache::kStore};
+  if (axisymmetric) {
+    store_stencils<GimpShape, true>(X, c.size0.data(), c.inv_h, 0, n, store);
+  } else {
+    store_stencils<GimpShape>(X, c.size0.data(), c.inv_h, 0, n, store);
+  }
+  StencilCache re;
+  re.mode = StencilCache::kRecompute;
+  for (int d = 0; d < 3; ++d) re.x[d] = X[d];
+  re.size0 = c.size0.data();
+  re.inv_h = c.inv_h;
+  re.axisymmetric = axisymmetric;
+  std::vector<std::uint32_t> all(n);
+  for (std::size_t p = 0; p < n; ++p) all[p] = static_cast<std::uint32_t>(n - 1 - p);  // reversed
+  std::size_t visited = 0, differ = 0;
+  const auto same = [&](double a, double b) {
+#if defined(__FMA__)
+    return std::memcmp(&a, &b, sizeof a) == 0;
+#else
+    return std::abs(a - b) <= 1e-13;
+#endif
+  };
+  constexpr int W = GimpShape::kWidth;
+  // Runs of 1..11 particles, so that every tail length of the batch is taken.
+  for (std::size_t k0 = 0; k0 < n;) {
+    const std::size_t len = std::min<std::size_t>(1 + k0 % 11, n - k0);
+    for_each_recomputed<GimpShape>(
+        re, std::span<const std::uint32_t>(all).subspan(k0, len),
+        [&](const BatchStencil<GimpShape>& st, std::uint32_t p) {
+          ++visited;
+          const double* row = &w[p * Stencil<GimpShape>::kRow];
+          const SparseGrid::Coord owner{0, 0, 0};
+          Stencil<GimpShape> one;
+          const double xi[3] = {0, 0, 0};
+          one.prepare(re, p, xi, 0.0, owner);
+          for (int d = 0; d < 3; ++d) {
+            ASSERT_EQ(st.off[d], (off[p] >> (2 * d)) & 3) << "particle " << p << " axis " << d;
+            ASSERT_EQ(one.off[d], st.off[d]);
+            for (int a = 0; a < W; ++a) {
+              differ +=
+                  !same(st.w[d][a], row[d * W + a]) + !same(st.dw[d][a], row[(3 + d) * W + a]);
+              differ +=
+                  !same(one.w[d][a], row[d * W + a]) + !same(one.dw[d][a], row[(3 + d) * W + a]);
+            }
+          }
+        });
+    k0 += len;
+  }
+  EXPECT_EQ(visited, n);
+  EXPECT_EQ(differ, 0U);
+}
+
+TEST(StencilCache, RecomputedUGimpRowsAreTheStoredBits) {
+  check_recomputed_rows(false);
+}
+TEST(StencilCache, RecomputedUGimpRowsAreTheStoredBitsRz) {
+  check_recomputed_rows(true);
 }
 
 // Every stencil node read through the window holds the same value as the node the direct lookup
