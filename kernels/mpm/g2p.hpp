@@ -178,12 +178,13 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
   };
   if constexpr (kRecomputedRows<Shape>) {
     if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP case
-      for_each_recomputed<Shape>(in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
-        alignas(64) double s[8];
-        alignas(32) double t[4] = {};
-        gather(stencil, s, t);
-        update(p, s, t);
-      });
+      for_each_recomputed<Shape, false>(in.stencil, particles,
+                                        [&](const auto& stencil, std::uint32_t p) {
+                                          alignas(64) double s[8];
+                                          alignas(32) double t[4] = {};
+                                          gather(stencil, s, t);
+                                          update(p, s, t);
+                                        });
       return;
     }
   }

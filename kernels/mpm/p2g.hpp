@@ -225,9 +225,10 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
   const bool stored = in.stencil.mode == StencilCache::kLoad;
   if constexpr (kLanes && kRecomputedRows<Shape>) {
     if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP FLIP scatters
-      for_each_recomputed<Shape>(in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
-        p2g_lanes<kForce, kAxisymmetric>(stencil, p2g_point<kForce, kAxisymmetric>(in, p), s);
-      });
+      for_each_recomputed<Shape, kForce>(
+          in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
+            p2g_lanes<kForce, kAxisymmetric>(stencil, p2g_point<kForce, kAxisymmetric>(in, p), s);
+          });
       p2g_flush<kForce, kLanes>(s, neighbours, nodes);
       return;
     }

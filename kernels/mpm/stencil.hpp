@@ -103,15 +103,27 @@ inline constexpr int kStencilBatch = 8;
 // The rows of particles idx[0..count) (count <= kStencilBatch). With AVX-512, eight particles
 // per vector, each lane doing gimp_rows::axis's operations in its order (the same bits);
 // otherwise particle by particle.
+// kGrad false: the weights alone (G2P, the remap's scatter), the derivatives left as they were.
+template <bool kGrad = true>
 inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int count,
                             double* rows, std::uint8_t* off) {
 #if defined(SHATTER_AVX512_ROWS)
   static_assert(kStencilBatch == 8);
   alignas(64) double xs[3][8], ss[8];
-  for (int k = 0; k < 8; ++k) {
-    const std::uint32_t p = idx[k < count ? k : count - 1];  // the tail repeats the last one
-    for (int d = 0; d < 3; ++d) xs[d][k] = c.x[d][p];
-    ss[k] = c.size0[p];
+  __m512d xv[3], sv;
+  bool consecutive = count == 8;  // the usual case: the store is sorted by block
+  for (int k = 1; k < 8 && consecutive; ++k) consecutive = idx[k] == idx[0] + k;
+  if (consecutive) {
+    for (int d = 0; d < 3; ++d) xv[d] = _mm512_loadu_pd(c.x[d] + idx[0]);
+    sv = _mm512_loadu_pd(c.size0 + idx[0]);
+  } else {
+    for (int k = 0; k < 8; ++k) {
+      const std::uint32_t p = idx[k < count ? k : count - 1];  // the tail repeats the last one
+      for (int d = 0; d < 3; ++d) xs[d][k] = c.x[d][p];
+      ss[k] = c.size0[p];
+    }
+    for (int d = 0; d < 3; ++d) xv[d] = _mm512_load_pd(xs[d]);
+    sv = _mm512_load_pd(ss);
   }
   // The masked forms (all lanes) of min, roundscale and the conversions: GCC 12's unmasked ones
   // start from _mm512_undefined_pd, which -Wmaybe-uninitialized reports. min(half, v) returns v
@@ -119,8 +131,7 @@ inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int
   const __m512d ih = _mm512_set1_pd(c.inv_h), half = _mm512_set1_pd(0.5);
   const __m512d one = _mm512_set1_pd(1.0), zero = _mm512_setzero_pd();
   const __m512d sign = _mm512_set1_pd(-0.0);  // -v as xor(v, sign): C's negation, zeros too
-  const __m512d lp =
-      _mm512_maskz_min_pd(0xFF, half, _mm512_mul_pd(_mm512_mul_pd(half, _mm512_load_pd(ss)), ih));
+  const __m512d lp = _mm512_maskz_min_pd(0xFF, half, _mm512_mul_pd(_mm512_mul_pd(half, sv), ih));
   const __m512d lp2 = _mm512_mul_pd(lp, lp);
   const __m512d two = _mm512_mul_pd(_mm512_set1_pd(2.0), lp);
   const __m512d four = _mm512_mul_pd(_mm512_set1_pd(4.0), lp);
@@ -136,7 +147,7 @@ inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int
       }
       continue;
     }
-    const __m512d x = _mm512_load_pd(xs[d]);
+    const __m512d x = xv[d];
     const __m512d fl =
         _mm512_maskz_roundscale_pd(0xFF, _mm512_fmadd_pd(x, ih, _mm512_set1_pd(-0.5)),
                                    _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -157,16 +168,17 @@ inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int
       const __m512d qw =
           _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(r, r), _mm512_fmadd_pd(dd, dd, lp2)),
                         _mm512_mask_blend_pd(in, four, two));
-      const __m512d qd =
-          _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(ms, r), _mm512_xor_pd(dd, sign)),
-                        _mm512_mask_blend_pd(in, two, lp));
       __m512d wv = _mm512_maskz_mov_pd(out, qw);
       wv = _mm512_mask_blend_pd(mid, wv, _mm512_sub_pd(one, ad));
       wv = _mm512_mask_blend_pd(in, wv, _mm512_sub_pd(one, qw));
+      _mm512_store_pd(w + a * 8, wv);
+      if constexpr (!kGrad) continue;
+      const __m512d qd =
+          _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(ms, r), _mm512_xor_pd(dd, sign)),
+                        _mm512_mask_blend_pd(in, two, lp));
       __m512d dv = _mm512_maskz_mov_pd(out, qd);
       dv = _mm512_mask_blend_pd(mid, dv, ms);
       dv = _mm512_mask_blend_pd(in, dv, qd);
-      _mm512_store_pd(w + a * 8, wv);
       _mm512_store_pd(dw + a * 8, dv);
     }
   }
@@ -305,16 +317,17 @@ struct BatchStencil {
 };
 
 // body(stencil, p) for every particle p of `particles` in order, with its row recomputed
-// (kRecompute, kRecomputedRows<Shape>) kStencilBatch particles at a time.
-template <class Shape, class Body>
+// (kRecompute, kRecomputedRows<Shape>) kStencilBatch particles at a time; kGrad false: the
+// weights only (the derivatives read as zero).
+template <class Shape, bool kGrad = true, class Body>
 void for_each_recomputed(const StencilCache& cache, std::span<const std::uint32_t> particles,
                          Body&& body) {
   static_assert(kRecomputedRows<Shape>);
-  alignas(64) double rows[Stencil<Shape>::kRow * kStencilBatch];
+  alignas(64) double rows[Stencil<Shape>::kRow * kStencilBatch] = {};
   std::uint8_t off[kStencilBatch];
   for (std::size_t k0 = 0; k0 < particles.size(); k0 += kStencilBatch) {
     const int count = static_cast<int>(std::min<std::size_t>(kStencilBatch, particles.size() - k0));
-    recomputed_rows(cache, particles.data() + k0, count, rows, off);
+    recomputed_rows<kGrad>(cache, particles.data() + k0, count, rows, off);
     for (int k = 0; k < count; ++k) body(BatchStencil<Shape>(rows, k, off[k]), particles[k0 + k]);
   }
 }

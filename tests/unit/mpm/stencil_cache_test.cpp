@@ -121,8 +121,13 @@ void check_recomputed_rows(bool axisymmetric) {
   re.size0 = c.size0.data();
   re.inv_h = c.inv_h;
   re.axisymmetric = axisymmetric;
+  // Runs of consecutive particles (the engine's usual case, read with vector loads), of
+  // particles in reverse, and of consecutive ones with two swapped (first and last in place).
   std::vector<std::uint32_t> all(n);
-  for (std::size_t p = 0; p < n; ++p) all[p] = static_cast<std::uint32_t>(n - 1 - p);  // reversed
+  for (std::size_t p = 0; p < n; ++p) {
+    all[p] = static_cast<std::uint32_t>(p < n / 2 ? p : n - 1 - (p - n / 2));
+  }
+  for (std::size_t p = n / 4; p + 8 < n / 2; p += 16) std::swap(all[p + 2], all[p + 3]);
   std::size_t visited = 0, differ = 0;
   const auto same = [&](double a, double b) {
 #if defined(__FMA__)
