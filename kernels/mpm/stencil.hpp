@@ -52,10 +52,11 @@ inline constexpr bool kRecomputedRows = std::is_same_v<Shape, GimpShape>;
 // store_stencils' loop is compiled with contraction (GCC's -ffp-contract=fast): xi = x / h enters
 // both subtractions of GimpShape::weights fused, floor(fma(x, 1/h, -1/2)) and fma(x, 1/h, -fl),
 // and d^2 + lp^2 as fma(d, d, lp^2) (found by comparing 2^20 random particles against the stored
-// rows, tests/unit/mpm/stencil_cache_test.cpp). Here those fusions are written out (std::fma) and
-// no other product meets a sum, so the bits do not depend on the compiler's contraction. Of the
-// four pieces of GimpShape::node, the one that applies is selected before dividing (2 divisions
-// per node instead of 4): the selected quotient has the same operands, so the same bits.
+// rows with every candidate; tests/unit/mpm/stencil_cache_test.cpp keeps the check). Here those
+// fusions are written out (std::fma) and no other product meets a sum, so the bits do not depend on
+// the compiler's contraction. Of the four pieces of GimpShape::node, the one that applies is
+// selected before dividing (2 divisions per node instead of 4): the selected quotient has the same
+// operands, so the same bits.
 namespace gimp_rows {
 
 inline int axis(double x, double inv_h, double lp, double* w, double* dw, int stride) {
@@ -111,6 +112,8 @@ inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int
   static_assert(kStencilBatch == 8);
   alignas(64) double xs[3][8], ss[8];
   __m512d xv[3], sv;
+  // Unaligned loads and stores throughout: GCC 12's AddressSanitizer places stack arrays at
+  // 32-byte boundaries whatever alignas asks (lanes.hpp, align64).
   bool consecutive = count == 8;  // the usual case: the store is sorted by block
   for (int k = 1; k < 8 && consecutive; ++k) consecutive = idx[k] == idx[0] + k;
   if (consecutive) {
@@ -122,8 +125,8 @@ inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int
       for (int d = 0; d < 3; ++d) xs[d][k] = c.x[d][p];
       ss[k] = c.size0[p];
     }
-    for (int d = 0; d < 3; ++d) xv[d] = _mm512_load_pd(xs[d]);
-    sv = _mm512_load_pd(ss);
+    for (int d = 0; d < 3; ++d) xv[d] = _mm512_loadu_pd(xs[d]);
+    sv = _mm512_loadu_pd(ss);
   }
   // The masked forms (all lanes) of min, roundscale and the conversions: GCC 12's unmasked ones
   // start from _mm512_undefined_pd, which -Wmaybe-uninitialized reports. min(half, v) returns v
@@ -142,8 +145,8 @@ inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int
     double* dw = rows + (9 + d * 3) * 8;
     if (c.axisymmetric && d == 1) {
       for (int a = 0; a < 3; ++a) {
-        _mm512_store_pd(w + a * 8, a == 0 ? one : zero);
-        _mm512_store_pd(dw + a * 8, zero);
+        _mm512_storeu_pd(w + a * 8, a == 0 ? one : zero);
+        _mm512_storeu_pd(dw + a * 8, zero);
       }
       continue;
     }
@@ -171,7 +174,7 @@ inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int
       __m512d wv = _mm512_maskz_mov_pd(out, qw);
       wv = _mm512_mask_blend_pd(mid, wv, _mm512_sub_pd(one, ad));
       wv = _mm512_mask_blend_pd(in, wv, _mm512_sub_pd(one, qw));
-      _mm512_store_pd(w + a * 8, wv);
+      _mm512_storeu_pd(w + a * 8, wv);
       if constexpr (!kGrad) continue;
       const __m512d qd =
           _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(ms, r), _mm512_xor_pd(dd, sign)),
@@ -179,11 +182,11 @@ inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int
       __m512d dv = _mm512_maskz_mov_pd(out, qd);
       dv = _mm512_mask_blend_pd(mid, dv, ms);
       dv = _mm512_mask_blend_pd(in, dv, qd);
-      _mm512_store_pd(dw + a * 8, dv);
+      _mm512_storeu_pd(dw + a * 8, dv);
     }
   }
   alignas(16) std::uint8_t o[16];
-  _mm_store_si128(reinterpret_cast<__m128i*>(o), _mm256_maskz_cvtepi32_epi8(0xFF, packed));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(o), _mm256_maskz_cvtepi32_epi8(0xFF, packed));
   for (int k = 0; k < count; ++k) off[k] = o[k];
 #else
   for (int k = 0; k < count; ++k) off[k] = gimp_rows::row(c, idx[k], rows + k, kStencilBatch);
