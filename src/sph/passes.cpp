@@ -3,8 +3,10 @@
 // (step 4) and the forces gather pass (step 6, BA95 Eq. 17 with Monaghan's viscosity).
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <type_traits>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 
@@ -107,11 +109,12 @@ void SphSolver::Impl::rates(double dt, double dt_kick) {
                              .heat = kick_heat.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
+                      thread_local std::vector<std::uint32_t> pairs;
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        // The pairs within support at x^n and h^n, compacted by the forces
+                        // The pairs within support at x^n and h^n, marked by the forces
                         // pass of the last step (or of the constructor or restore()).
-                        ks::rates_particle<simd::Batch>(in, active.data() + search.offset(i),
-                                                        active_count[i], i, dt, out, kick,
+                        const std::size_t m = expand(i, pairs);
+                        ks::rates_particle<simd::Batch>(in, pairs.data(), m, i, dt, out, kick,
                                                         pair_at[i]);
                       }
                     });
@@ -139,10 +142,12 @@ void SphSolver::Impl::drift(double dt) {
                     });
 }
 
-// Each list compacted to its pairs within support (a Verlet list's skin entries dropped), which
-// the forces pass and the next step's rates pass use: it runs at these same positions and h. The
-// viscous weights are kept for those pairs only (pair_at: where each particle's start), 53
-// instead of 75 per particle in the benchmark's cube.
+// Each list's pairs within support (a Verlet list's skin entries dropped) marked in its bits,
+// which the forces pass and the next step's rates pass expand into the compacted list: the
+// rates pass runs at these same positions and h. The viscous weights are kept for those pairs
+// only (pair_at: where each particle's start), 53 instead of 75 per particle in the benchmark's
+// cube. (Until session 18 the compacted indices themselves were kept, 4 B per list entry; the
+// bits give the same compacted lists, so the same sums.)
 void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
   const std::size_t n = s.particles_.size();
   // Room for the pairs, grown by an eighth when short (as the search's list buffers). Growing
@@ -160,21 +165,52 @@ void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
     }
     v.resize(size);
   };
-  grow(active, search.pairs());
+  mask_at.resize(n + 1);
+  mask_at[0] = 0;
+  for (std::size_t i = 0; i < n; ++i) mask_at[i + 1] = mask_at[i] + (search.count(i) + 63) / 64;
+  grow(mask, mask_at[n]);
   active_count.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
+                      thread_local std::vector<std::uint32_t> pairs;
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        const std::uint32_t* nb = search.begin_of(i);
+                        const std::size_t count = search.count(i);
+                        if (pairs.size() < count) pairs.resize(count);
                         const std::size_t m =
-                            ks::compact_within_support(in, search.begin_of(i), search.count(i), i,
-                                                       active.data() + search.offset(i));
+                            ks::compact_within_support(in, nb, count, i, pairs.data());
                         active_count[i] = static_cast<std::uint32_t>(m);
+                        // The compacted list is a subsequence of the list (whose entries are
+                        // distinct): mark where each of its entries stands.
+                        std::uint64_t* bits = mask.data() + mask_at[i];
+                        std::fill(bits, mask.data() + mask_at[i + 1], std::uint64_t{0});
+                        std::size_t k = 0;
+                        for (std::size_t e = 0; e < count && k < m; ++e) {
+                          if (nb[e] != pairs[k]) continue;
+                          bits[e / 64] |= std::uint64_t{1} << (e % 64);
+                          ++k;
+                        }
                       }
                     });
   pair_at.resize(n + 1);
   pair_at[0] = 0;
   for (std::size_t i = 0; i < n; ++i) pair_at[i + 1] = pair_at[i] + active_count[i];
   grow(pair_w, pair_at[n]);
+}
+
+// Particle i's compacted list (its pairs within support, in list order) from its bits, into
+// `out` (grown when short); returns its length, active_count[i].
+std::size_t SphSolver::Impl::expand(std::size_t i, std::vector<std::uint32_t>& out) const {
+  const std::uint32_t* nb = search.begin_of(i);
+  if (out.size() < active_count[i]) out.resize(active_count[i]);
+  std::size_t k = 0;
+  for (std::size_t w = mask_at[i]; w < mask_at[i + 1]; ++w) {
+    const std::uint32_t* base = nb + 64 * (w - mask_at[i]);
+    for (std::uint64_t bits = mask[w]; bits != 0; bits &= bits - 1) {
+      out[k++] = base[std::countr_zero(bits)];
+    }
+  }
+  return k;
 }
 
 void SphSolver::Impl::forces() {
@@ -213,9 +249,11 @@ void SphSolver::Impl::forces() {
                              heat.data(), mu.data(), pair_w.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
+                      thread_local std::vector<std::uint32_t> pairs;
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        ks::forces_particle<simd::Batch>(in, f, active.data() + search.offset(i),
-                                                         active_count[i], i, out, pair_at[i]);
+                        const std::size_t m = expand(i, pairs);
+                        ks::forces_particle<simd::Batch>(in, f, pairs.data(), m, i, out,
+                                                         pair_at[i]);
                       }
                     });
   if (s.config_.self_gravity.self) add_self_gravity();
