@@ -72,25 +72,23 @@ total_flaws = 1.0e9
 std::size_t solver_bytes(const sph::SphSolver& sim) {
   // h, h_mid, a (3), heat, mu, kick heat: 8 doubles per particle; sigma / rho^2: 6; the Verlet
   // skin and positions and h at the last build: 5 (the skin since session 17); the compacted
-  // list's count (4 B) and where each particle's viscous weights and bits start (8 B each); per
-  // list entry: the search's index (in bytes()) and one bit of the mask of pairs within support,
-  // in whole 64-bit words per list (session 18; before, a 4-byte compacted index); per pair
-  // within support (as the forces pass counts them): one viscous weight (8 B).
+  // list's count (4 B) and where each particle's viscous weights start (8 B); per list entry: the
+  // search's index (in bytes()) and the compacted index (4 B); per pair within support (as the
+  // forces pass counts them): one viscous weight (8 B).
   const std::size_t n = sim.particles().size();
   const auto& nb = sim.neighbours();
   const auto x = sim.particles().col(Field::x), y = sim.particles().col(Field::y),
              z = sim.particles().col(Field::z);
   const auto h = sim.smoothing_length();
-  std::size_t within = 0, words = 0;
+  std::size_t within = 0;
   for (std::size_t i = 0; i < nb.lists(); ++i) {
-    words += (nb.count(i) + 63) / 64;
     for (const std::uint32_t j : nb.of(i)) {
       const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j], reach = h[i] + h[j];
       within += dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0;
     }
   }
-  return n * (19 * sizeof(double) + sizeof(std::uint32_t) + 2 * sizeof(std::size_t)) + nb.bytes() +
-         words * sizeof(std::uint64_t) + within * sizeof(double);
+  return n * (19 * sizeof(double) + sizeof(std::uint32_t) + sizeof(std::size_t)) + nb.bytes() +
+         nb.pairs() * sizeof(std::uint32_t) + within * sizeof(double);
 }
 
 // Process CPU time (all threads), seconds.

@@ -11,13 +11,11 @@
 // but branch-free (cubic_f_lanes, the viscosity selected on approach). So the batch path sums
 // the same terms in another order than the scalar one (round-off, tested against it) and its
 // bits depend on W, but not on the thread count, and not on a Verlet skin: the passes run over
-// the compacted list of pairs within support (compact_within_support; the solver keeps it as
-// bits, mark_within_support), which is the same with and without a skin. The last group is padded
-// with i itself, whose terms are exactly zero (x_ii = 0 and v_ii = 0 make every pair term 0, and
-// the inner kernel branch is finite).
+// the compacted list of pairs within support (compact_within_support), which is the same with
+// and without a skin. The last group is padded with i itself, whose terms are exactly zero
+// (x_ii = 0 and v_ii = 0 make every pair term 0, and the inner kernel branch is finite).
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -110,30 +108,6 @@ inline std::size_t compact_within_support(const PairInputs& in, const std::uint3
     const double reach = hi + in.h[j];
     active[m] = j;
     m += dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0;
-  }
-  return m;
-}
-
-// The same test as compact_within_support, as bits: bit e % 64 of bits[e / 64] is set when
-// entry e of i's list is within support (the words of the list, ceil(count / 64), are
-// overwritten); returns how many are. Expanding the set bits in order gives exactly
-// compact_within_support's list.
-inline std::size_t mark_within_support(const PairInputs& in, const std::uint32_t* nb,
-                                       std::size_t count, std::size_t i, std::uint64_t* bits) {
-  const double xi = in.x[i], yi = in.y[i], zi = in.z[i], hi = in.h[i];
-  std::size_t m = 0;
-  for (std::size_t w = 0; w * 64 < count; ++w) {
-    std::uint64_t word = 0;
-    const std::size_t end = std::min(count, 64 * (w + 1));
-    for (std::size_t k = 64 * w; k < end; ++k) {
-      const std::uint32_t j = nb[k];
-      const double dx = xi - in.x[j], dy = yi - in.y[j], dz = zi - in.z[j];
-      const double reach = hi + in.h[j];
-      word |= static_cast<std::uint64_t>(dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0)
-              << (k - 64 * w);
-    }
-    bits[w] = word;
-    m += static_cast<std::size_t>(std::popcount(word));
   }
   return m;
 }

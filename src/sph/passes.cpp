@@ -3,15 +3,10 @@
 // (step 4) and the forces gather pass (step 6, BA95 Eq. 17 with Monaghan's viscosity).
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <type_traits>
-#include <vector>
 
 #include <tbb/parallel_for.h>
-#if defined(__AVX512F__)
-#include <immintrin.h>
-#endif
 
 #include "sph/solver_impl.hpp"
 
@@ -112,12 +107,11 @@ void SphSolver::Impl::rates(double dt, double dt_kick) {
                              .heat = kick_heat.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      thread_local std::vector<std::uint32_t> pairs;
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        // The pairs within support at x^n and h^n, marked by the forces
+                        // The pairs within support at x^n and h^n, compacted by the forces
                         // pass of the last step (or of the constructor or restore()).
-                        const std::size_t m = expand(i, pairs);
-                        ks::rates_particle<simd::Batch>(in, pairs.data(), m, i, dt, out, kick,
+                        ks::rates_particle<simd::Batch>(in, active.data() + search.offset(i),
+                                                        active_count[i], i, dt, out, kick,
                                                         pair_at[i]);
                       }
                     });
@@ -145,12 +139,10 @@ void SphSolver::Impl::drift(double dt) {
                     });
 }
 
-// Each list's pairs within support (a Verlet list's skin entries dropped) marked in its bits,
-// which the forces pass and the next step's rates pass expand into the compacted list: the
-// rates pass runs at these same positions and h. The viscous weights are kept for those pairs
-// only (pair_at: where each particle's start), 53 instead of 75 per particle in the benchmark's
-// cube. (Until session 18 the compacted indices themselves were kept, 4 B per list entry; the
-// bits give the same compacted lists, so the same sums.)
+// Each list compacted to its pairs within support (a Verlet list's skin entries dropped), which
+// the forces pass and the next step's rates pass use: it runs at these same positions and h. The
+// viscous weights are kept for those pairs only (pair_at: where each particle's start), 53
+// instead of 75 per particle in the benchmark's cube.
 void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
   const std::size_t n = s.particles_.size();
   // Room for the pairs, grown by an eighth when short (as the search's list buffers). Growing
@@ -168,48 +160,21 @@ void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
     }
     v.resize(size);
   };
-  mask_at.resize(n + 1);
-  mask_at[0] = 0;
-  for (std::size_t i = 0; i < n; ++i) mask_at[i + 1] = mask_at[i] + (search.count(i) + 63) / 64;
-  grow(mask, mask_at[n]);
+  grow(active, search.pairs());
   active_count.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        active_count[i] = static_cast<std::uint32_t>(ks::mark_within_support(
-                            in, search.begin_of(i), search.count(i), i, mask.data() + mask_at[i]));
+                        const std::size_t m =
+                            ks::compact_within_support(in, search.begin_of(i), search.count(i), i,
+                                                       active.data() + search.offset(i));
+                        active_count[i] = static_cast<std::uint32_t>(m);
                       }
                     });
   pair_at.resize(n + 1);
   pair_at[0] = 0;
   for (std::size_t i = 0; i < n; ++i) pair_at[i + 1] = pair_at[i] + active_count[i];
   grow(pair_w, pair_at[n]);
-}
-
-// Particle i's compacted list (its pairs within support, in list order) from its bits, into
-// `out` (grown when short); returns its length, active_count[i].
-std::size_t SphSolver::Impl::expand(std::size_t i, std::vector<std::uint32_t>& out) const {
-  const std::uint32_t* nb = search.begin_of(i);
-  const std::size_t count = search.count(i);
-  const std::uint64_t* bits = mask.data() + mask_at[i];
-  std::size_t k = 0;
-#if defined(__AVX512F__)
-  // 16 entries at a time: a masked load (no read past the list: its bits beyond count are 0)
-  // and the set ones packed to the front (vpcompressd), stored whole (room for 16 more).
-  if (out.size() < active_count[i] + 16) out.resize(active_count[i] + 16);
-  for (std::size_t e = 0; e < count; e += 16) {
-    const auto m = static_cast<__mmask16>(bits[e / 64] >> (e % 64));
-    const __m512i v = _mm512_maskz_loadu_epi32(m, nb + e);
-    _mm512_storeu_si512(out.data() + k, _mm512_maskz_compress_epi32(m, v));
-    k += static_cast<std::size_t>(std::popcount(static_cast<unsigned>(m)));
-  }
-#else
-  if (out.size() < active_count[i]) out.resize(active_count[i]);
-  for (std::size_t w = 0; w * 64 < count; ++w) {
-    for (std::uint64_t b = bits[w]; b != 0; b &= b - 1) out[k++] = nb[64 * w + std::countr_zero(b)];
-  }
-#endif
-  return k;
 }
 
 void SphSolver::Impl::forces() {
@@ -248,11 +213,9 @@ void SphSolver::Impl::forces() {
                              heat.data(), mu.data(), pair_w.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      thread_local std::vector<std::uint32_t> pairs;
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        const std::size_t m = expand(i, pairs);
-                        ks::forces_particle<simd::Batch>(in, f, pairs.data(), m, i, out,
-                                                         pair_at[i]);
+                        ks::forces_particle<simd::Batch>(in, f, active.data() + search.offset(i),
+                                                         active_count[i], i, out, pair_at[i]);
                       }
                     });
   if (s.config_.self_gravity.self) add_self_gravity();

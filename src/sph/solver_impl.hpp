@@ -108,15 +108,10 @@ struct SphSolver::Impl {
   // With mirror particles the gather passes read these copies of the columns (real particles,
   // then their images); without, they read the columns themselves.
   AlignedVector<double> ex, ey, ez, evx, evy, evz, em, erho, ec;
-  // Per neighbour-list entry, one bit: whether the pair is within support at the last forces
-  // pass (active_count[i] of particle i's bits are set). List i's bits are the words
-  // mask[mask_at[i] ...], one word per 64 entries (each list starts a word: the lists' bits are
-  // written in parallel). expand() turns them back into the compacted list (the pairs within
-  // support in list order), which the passes gather over, and their viscous weights
-  // (viscous_heating_term). A bit per entry instead of a 4-byte index: ~290 B per point less.
-  std::vector<std::uint64_t> mask;
-  std::vector<std::size_t> mask_at;  // n + 1
-  std::vector<std::uint32_t> active_count;
+  // Per neighbour-list entry: the pairs within support at the last forces pass, compacted to the
+  // front of each list's slots (active_count[i] of them), and their viscous weights
+  // (viscous_heating_term).
+  std::vector<std::uint32_t> active, active_count;
   std::vector<std::size_t> pair_at;  // n + 1: particle i's weights are pair_w[pair_at[i]...]
   std::vector<double> pair_w;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
@@ -182,7 +177,6 @@ struct SphSolver::Impl {
   void material(double dt);
   void drift(double dt);
   void compact_lists(const ks::PairInputs& in);
-  std::size_t expand(std::size_t i, std::vector<std::uint32_t>& out) const;
   void forces();
   void add_self_gravity();  // a += the particles' self-gravity (sph/gravity.cpp)
 

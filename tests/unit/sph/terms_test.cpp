@@ -191,44 +191,6 @@ TEST(ViscosityTerm, ActsOnApproachOnlyAndItsHeatEqualsTheWorkItDoes) {
   for (double v : mom) EXPECT_LT(std::abs(v), 1e-13 * scale);
 }
 
-TEST(GatherPasses, BitsOfThePairsWithinSupportExpandToTheCompactedList) {
-  // mark_within_support (the solver keeps one bit per list entry) against
-  // compact_within_support (the indices themselves): the set bits in order must name exactly the
-  // compacted list, for lists of 1 to 200 entries (one to four words, partial last words).
-  std::mt19937_64 rng(23);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  constexpr std::size_t kPoints = 400;
-  std::vector<double> x(kPoints), y(kPoints), z(kPoints), h(kPoints, 0.2);
-  for (std::size_t p = 0; p < kPoints; ++p) {
-    x[p] = u(rng);
-    y[p] = u(rng);
-    z[p] = u(rng);
-  }
-  PairInputs in;
-  in.x = x.data();
-  in.y = y.data();
-  in.z = z.data();
-  in.h = h.data();
-  std::size_t within = 0, entries = 0;
-  for (std::size_t count = 1; count <= 200; count += 7) {
-    std::vector<std::uint32_t> nb(count), active(count);
-    for (std::size_t k = 0; k < count; ++k) nb[k] = static_cast<std::uint32_t>(1 + k);
-    std::vector<std::uint64_t> bits((count + 63) / 64, ~std::uint64_t{0});
-    const std::size_t m = compact_within_support(in, nb.data(), count, 0, active.data());
-    ASSERT_EQ(mark_within_support(in, nb.data(), count, 0, bits.data()), m) << count;
-    std::vector<std::uint32_t> expanded;
-    for (std::size_t k = 0; k < count; ++k) {
-      if ((bits[k / 64] >> (k % 64)) & 1U) expanded.push_back(nb[k]);
-    }
-    active.resize(m);
-    EXPECT_EQ(expanded, active) << count;
-    within += m;
-    entries += count;
-  }
-  EXPECT_GT(within, entries / 20);  // both outcomes occur
-  EXPECT_LT(within, entries);
-}
-
 TEST(GatherPasses, SimdLanesMatchTheScalarReference) {
   // Both passes with T = simd::Batch (what the solver runs) against T = double, on a jittered
   // lattice block (so pairs fall in both kernel branches and near the support's edge) with
