@@ -132,15 +132,76 @@ bool SphSolver::Impl::lists_still_cover() const {
 }
 
 // Re-order each material group by cell (stable, so deterministic): the gather passes then
-// stream through memory. The cells are those of the last bin; the lists are rebuilt for the new
-// order.
-void SphSolver::Impl::reorder_by_cell() {
+// stream through memory. The cells are those of the last bin. With keep_lists (the last build's
+// lists still cover every pair within support), the lists are carried through the permutation
+// (permute_lists); otherwise they are rebuilt for the new order.
+void SphSolver::Impl::reorder_by_cell(bool keep_lists) {
   ParticleStore& P = s.particles_;
   const auto cells = search.cells();
   reorder_groups_by(P, order, [&](std::uint32_t p) { return cells[p]; });
   permute_switch();
   smoothing_lengths();
-  build_search();
+  if (keep_lists) {
+    permute_lists();
+  } else {
+    build_search();
+  }
+}
+
+// The last build's lists, images and build state carried through the re-order's permutation
+// (new particle k is old particle order[k]) instead of a build, which took ~10 % of the
+// laboratory impact (docs/performance.md, SPH round 5). The passes see exactly what a fresh
+// build gives: the compacted lists are the pairs within support in ascending index order, and
+// they do not depend on the skin or on the build's positions as long as the lists cover every
+// pair within support (lists_still_cover, checked before). The images kept are those of the
+// last build (kept_ghosts, saved before the bin made its own), renumbered and put in the order
+// make_ghosts gives them (by source, then by the sides in its loop order: 0, -1, +1 on x, then
+// y, then z), so every image within support has the same rank among the images as in a fresh
+// build and the lists, sorted again, sum the same terms in the same order: the same bits. The
+// per-particle state of the build (positions, h and skins at the build) is permuted with the
+// particles, so the next build comes when it would have come without the re-order.
+void SphSolver::Impl::permute_lists() {
+  const std::size_t n = s.particles_.size();
+  ghosts.swap(kept_ghosts);
+  const std::size_t g = ghosts.size();
+  renumber.resize(n + g);
+  for (std::size_t k = 0; k < n; ++k) renumber[order[k]] = static_cast<std::uint32_t>(k);
+  // Build state: new k from old order[k] (rho_n as the scratch copy, as permute_switch does).
+  rho_n.resize(n);
+  for (auto* v : {&xb, &yb, &zb, &hb, &skin}) {
+    for (std::size_t k = 0; k < n; ++k) rho_n[k] = (*v)[order[k]];
+    std::copy(rho_n.begin(), rho_n.begin() + static_cast<std::ptrdiff_t>(n), v->begin());
+  }
+  // The images: sources renumbered, then sorted by (source, sides in make_ghosts' order); the
+  // old image n + k becomes n + its rank. kept_ghosts (the bin's images, no longer needed)
+  // takes the sorted copy.
+  const auto rank = [](std::int8_t side) { return side == 0 ? 0 : (side < 0 ? 1 : 2); };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(g);
+  for (std::size_t k = 0; k < g; ++k) {
+    const Mirror& m = ghosts[k];
+    const auto sides = 9 * rank(m.side[0]) + 3 * rank(m.side[1]) + rank(m.side[2]);
+    keyed[k] = {(std::uint64_t{renumber[m.src]} << 8) | static_cast<std::uint64_t>(sides),
+                static_cast<std::uint32_t>(k)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  kept_ghosts.resize(g);
+  for (std::size_t r = 0; r < g; ++r) {
+    const std::uint32_t k = keyed[r].second;
+    kept_ghosts[r] = {renumber[ghosts[k].src], ghosts[k].side};
+    renumber[n + k] = static_cast<std::uint32_t>(n + r);
+  }
+  ghosts.swap(kept_ghosts);
+  // The per-point arrays for these images (make_ghosts' sizes), their positions and h.
+  if (mirrors) {
+    const std::size_t m = n + g;
+    for (auto* v : {&h, &h_mid, &ax, &ay, &az, &ex, &ey, &ez, &evx, &evy, &evz, &em, &erho, &ec}) {
+      v->resize(m);
+    }
+    if (switch_on) alpha.resize(m);
+    for (auto& v : a_stress) v.resize(m);
+    place_ghosts();
+  }
+  search.permute(order, renumber);
 }
 
 // Steps 5-6 of the header: a pure function of the columns (and of the step count, which picks
@@ -151,13 +212,15 @@ void SphSolver::Impl::search_and_forces(bool may_reorder) {
     check_state();
     const unsigned every = s.config_.reorder_interval;
     const bool reorder = may_reorder && every > 0 && s.clock_.step % every == 0;
-    if (!reorder && lists_valid && xb.size() == P.size()) {
+    bool cover = false;
+    if (lists_valid && xb.size() == P.size()) {
       // Verlet lists: keep the last build's lists while they cover every pair. The passes
       // run over the lists compacted to the pairs within support (the skin's entries
       // dropped) and the lists are in index order, so the sums are those of fresh lists, bit
       // for bit (tested), and a resumed run that builds afresh continues identically.
       smoothing_lengths();
-      if (lists_still_cover()) {
+      cover = lists_still_cover();
+      if (cover && !reorder) {
         if (mirrors) place_ghosts();
         return;
       }
@@ -165,10 +228,18 @@ void SphSolver::Impl::search_and_forces(bool may_reorder) {
     resize(P.size());
     smoothing_lengths();
     // Before a re-order, the cells that order memory must not depend on the skin (they would
-    // change the particle order and so the bits): those of a build without one, binned only
-    // (the lists would be stale after the re-order).
+    // change the particle order and so the bits): those of a build without one, binned only.
+    // Lists that still cover are then carried through the re-order (the bin keeps them, and
+    // the last build's images and largest skin are put aside for them); otherwise they are
+    // built for the new order.
+    const double kept_skin = skin_abs;
+    if (reorder && cover) ghosts.swap(kept_ghosts);
     build_search(!reorder, !reorder);
-    if (reorder) reorder_by_cell();
+    if (reorder) reorder_by_cell(cover);
+    if (reorder && cover) {
+      skin_abs = kept_skin;
+      lists_valid = true;
+    }
   });
   timed(kForces, [&] { forces(); });
 }

@@ -75,7 +75,43 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
 
 void NeighbourSearch::bin(const double* x, const double* y, const double* z, const double* h,
                           std::size_t n) {
-  sort_by_cell(x, y, z, h, n, 0, 0.0);
+  sort_by_cell(x, y, z, h, n, 0, 0.0, true);
+}
+
+void NeighbourSearch::permute(std::span<const std::uint32_t> from,
+                              std::span<const std::uint32_t> to) {
+  if (from.size() != lists_) {
+    throw std::invalid_argument(fmt::format(
+        "neighbour search: a permutation of {} lists for {} lists", from.size(), lists_));
+  }
+  if (to.size() != listed_) {
+    throw std::invalid_argument(
+        fmt::format("neighbour search: {} points renumbered for {} lists", to.size(), lists_));
+  }
+  std::vector<const std::uint32_t*> begin(lists_);
+  std::vector<std::size_t> offsets(lists_ + 1);
+  offsets[0] = 0;
+  for (std::size_t k = 0; k < lists_; ++k) {
+    const std::size_t old = from[k];
+    begin[k] = begin_[old];
+    offsets[k + 1] = offsets[k] + (offsets_[old + 1] - offsets_[old]);
+  }
+  begin_.swap(begin);
+  offsets_.swap(offsets);
+  n_ = to.size();
+  // A bijection keeps every entry below listed_.
+  // Each list is in its own slots (those of the old list it was), so the lists are rewritten
+  // in place, in parallel, each on its own.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lists_, kGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        // The buffers are written through the search's own pointers.
+                        auto* list = const_cast<std::uint32_t*>(begin_[k]);
+                        const std::size_t m = offsets_[k + 1] - offsets_[k];
+                        for (std::size_t e = 0; e < m; ++e) list[e] = to[list[e]];
+                        if (!std::is_sorted(list, list + m)) std::sort(list, list + m);
+                      }
+                    });
 }
 
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
@@ -85,8 +121,8 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
 }
 
 bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const double* z,
-                                   const double* h, std::size_t n, std::size_t n_lists,
-                                   double skin) {
+                                   const double* h, std::size_t n, std::size_t n_lists, double skin,
+                                   bool keep_lists) {
   if (!(skin >= 0.0) || !std::isfinite(skin)) {
     throw std::invalid_argument(fmt::format("neighbour search: skin must be >= 0, got {}", skin));
   }
@@ -98,13 +134,16 @@ bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const doubl
         fmt::format("neighbour search: lists for {} of only {} points", n_lists, n));
   }
   n_ = n;
-  lists_ = n_lists;
   cell_.resize(n);
   sorted_.resize(n);
   keyed_.resize(n);
-  offsets_.resize(n_lists + 1);
-  offsets_[0] = 0;
-  begin_.resize(n_lists);
+  if (!keep_lists) {
+    lists_ = n_lists;
+    listed_ = n;
+    offsets_.resize(n_lists + 1);
+    offsets_[0] = 0;
+    begin_.resize(n_lists);
+  }
   cell_key_.clear();
   cell_start_.clear();
   if (n == 0) {

@@ -131,6 +131,10 @@ struct SphSolver::Impl {
   double skin_abs = 0.0;
   bool lists_valid = false;
   std::uint64_t builds = 0;
+  // The re-order's carry of the lists through the permutation (permute_lists): the last
+  // build's images, and each point's new index (real particles, then images).
+  std::vector<Mirror> kept_ghosts;
+  std::vector<std::uint32_t> renumber;
 
   Impl(SphSolver& solver, int threads);
 
@@ -160,7 +164,8 @@ struct SphSolver::Impl {
   double particle_skins(double hmax, bool with_skin);
   void build_search(bool with_skin = true, bool lists = true);
   bool lists_still_cover() const;
-  void reorder_by_cell();
+  void reorder_by_cell(bool keep_lists);
+  void permute_lists();
   void search_and_forces(bool may_reorder);
 
   // passes.cpp

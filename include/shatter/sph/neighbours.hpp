@@ -31,9 +31,21 @@ class NeighbourSearch {
              std::size_t n_lists, double skin = 0.0);
 
   // Only the binning of a build without a skin: cells() and cell_size() as build() would give
-  // them, no lists (lists() = 0). For re-ordering particles by cell without building lists that
-  // the re-order makes stale.
+  // them, no new lists. For re-ordering particles by cell without building lists that the
+  // re-order makes stale. The last build's lists are kept as they were (lists(), of(), offset()
+  // still answer for them), for permute(); size() and cells() are the bin's.
   void bin(const double* x, const double* y, const double* z, const double* h, std::size_t n);
+
+  // The last build's lists carried through a renumbering of the points (a re-order of the
+  // particles in memory), without a build: new list k is old list from[k] (from.size() =
+  // lists(), a permutation), and every entry, an old point index p, becomes to[p] (to: a
+  // permutation of the points the lists number, those of the last build). Each list is then sorted
+  // into ascending index order again, so it is exactly the list a build at the same positions, h
+  // and skin gives when the renumbered points are the same set (the order does not depend on the
+  // cells or on the list's storage). The lists stay in their buffers (only where each one starts
+  // moves), so nothing is copied and nothing allocated beyond 16 B per list; offset() is the new
+  // numbering's. cells() is left as it was (the last bin's, before the renumbering).
+  void permute(std::span<const std::uint32_t> from, std::span<const std::uint32_t> to);
 
   // Points in the last build, and those with a list.
   std::size_t size() const { return n_; }
@@ -59,8 +71,9 @@ class NeighbourSearch {
 
  private:
   // The cells, sorted points and (n_lists + 1) offsets' first entry; false for no points.
+  // With keep_lists (bin), the lists' offsets, starts and count are left as they were.
   bool sort_by_cell(const double* x, const double* y, const double* z, const double* h,
-                    std::size_t n, std::size_t n_lists, double skin);
+                    std::size_t n, std::size_t n_lists, double skin, bool keep_lists = false);
   void make_lists(const double* x, const double* y, const double* z, const double* h, std::size_t n,
                   std::size_t n_lists, double skin);
   // One chunk of make_lists: the lists of the points of chunk c.
@@ -78,6 +91,7 @@ class NeighbourSearch {
   };
   std::size_t n_ = 0;
   std::size_t lists_ = 0;
+  std::size_t listed_ = 0;  // points the lists' entries number (n of the last build or permute)
   double cell_size_ = 0.0;
   std::vector<KeyIndex> keyed_;            // (cell key, point) sorted
   std::vector<std::uint64_t> cell_key_;    // occupied cells' keys, ascending

@@ -1,10 +1,12 @@
 // The SPH neighbour search (src/sph/neighbours.cpp) against brute force, on random and clustered
-// points with varying h, and the fixed list order that makes the gather passes bitwise
-// reproducible on any thread count.
+// points with varying h, the fixed list order that makes the gather passes bitwise
+// reproducible on any thread count, and lists carried through a renumbering of the points.
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -106,6 +108,55 @@ TEST(NeighbourSearch, ListsAreIdenticalForOneAndTwoThreadsAndRebuildsReuseMemory
   if (one.pairs() <= two.pairs()) {
     EXPECT_EQ(one.bytes(), bytes);
   }
+}
+
+TEST(NeighbourSearch, PermutedListsAreTheListsOfABuildInTheNewNumbering) {
+  // Lists with a skin for the first 2500 of 3000 points (the rest, like the SPH images, are
+  // only neighbours), a bin in between (which must keep them), then the points renumbered: the
+  // permuted lists must equal, entry for entry and in order, those built afresh for the
+  // renumbered points, on 1 and 2 threads.
+  constexpr std::size_t kPoints = 3000, kLists = 2500;
+  constexpr double kSkin = 0.01;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0), hu(0.03, 0.06);
+  Cloud c;
+  for (std::size_t k = 0; k < kPoints; ++k) c.add(u(rng), u(rng), u(rng), hu(rng));
+  // from[k]: the old point that becomes point k (the listed points among themselves, the
+  // others among themselves); to: its inverse.
+  std::vector<std::uint32_t> from(kPoints), to(kPoints);
+  std::iota(from.begin(), from.end(), 0U);
+  std::shuffle(from.begin(), from.begin() + kLists, rng);
+  std::shuffle(from.begin() + kLists, from.end(), rng);
+  for (std::size_t k = 0; k < kPoints; ++k) to[from[k]] = static_cast<std::uint32_t>(k);
+  Cloud p;
+  for (std::size_t k = 0; k < kPoints; ++k) {
+    p.add(c.x[from[k]], c.y[from[k]], c.z[from[k]], c.h[from[k]]);
+  }
+  NeighbourSearch fresh;
+  fresh.build(p.x.data(), p.y.data(), p.z.data(), p.h.data(), kPoints, kLists, kSkin);
+  for (const int threads : {1, 2}) {
+    NeighbourSearch s;
+    tbb::task_arena(threads).execute([&] {
+      s.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), kPoints, kLists, kSkin);
+      s.bin(p.x.data(), p.y.data(), p.z.data(), p.h.data(), kPoints);
+      s.permute({from.data(), kLists}, to);
+    });
+    ASSERT_EQ(s.lists(), kLists);
+    ASSERT_EQ(s.pairs(), fresh.pairs());
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < kLists; ++i) {
+      const auto a = s.of(i), b = fresh.of(i);
+      ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "point " << i;
+      ASSERT_EQ(s.offset(i), fresh.offset(i));
+      moved += from[i] != i ? 1 : 0;
+    }
+    EXPECT_GT(moved, kLists / 2);
+  }
+  // A renumbering of the wrong number of lists or points: refused.
+  NeighbourSearch s;
+  s.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), kPoints, kLists, kSkin);
+  EXPECT_THROW(s.permute({from.data(), kLists - 1}, to), std::invalid_argument);
+  EXPECT_THROW(s.permute({from.data(), kLists}, {to.data(), kPoints - 1}), std::invalid_argument);
 }
 
 }  // namespace
