@@ -11,6 +11,12 @@
 // Plastic strain follows Eqs. 6a-6c and the heat dQ = sigma : deps_p (Eq. 40) accumulates into
 // Q, which softens the surface through (1 - Q/Q_melt). Q^n (start of step) is used in Eq. 4, so
 // the heat of this step softens the next one.
+// Optional tension cut-off p_t <= 0 (material key tension_cutoff; absent = off, bitwise the
+// return without it), as in lundborg.hpp (its header gives the sources): the corrector starts
+// from p = max(p*, p_t) in place of p*, so below p_t the pressure is p_t and Eq. 4 is taken
+// there (Eq. 5b adds nothing: dilatancy acts only for p > 0, and p_t <= 0).
+
+#include <limits>
 
 #include "strength/strength_common.hpp"
 
@@ -35,6 +41,12 @@ struct ModifiedLundborg {
   double strength_limit = 0.0;    // Ym (Pa)
   double dilatancy = 0.0;         // q_psi
   double melt_heat = 0.0;         // Q_melt (J/kg); 0 = no thermal softening
+  // p_t (Pa, <= 0); -infinity = no cut-off (the default)
+  double tension_cutoff = -std::numeric_limits<double>::infinity();
+
+  bool has_tension_cutoff() const {
+    return tension_cutoff > -std::numeric_limits<double>::infinity();
+  }
 
   // Below p_t = -Y0 (Ym - Y0)/(mu_i Ym) the intact term of Eq. 4 would go negative (and reach a
   // pole); it is held at zero there. The damaged term is held at zero for p < 0 (no cohesion).
@@ -78,7 +90,9 @@ struct ModifiedLundborg {
   void return_map(T (&s)[6], PlasticState<T>& st) const {
     const T G = elastic.G * st.modulus;  // the point's shear modulus (PlasticState::modulus)
     const T tau_trial = vsqrt(j2(s));
-    const T p_trial = st.p;
+    const T p_star = st.p;
+    // The corrector's starting pressure: p* clipped at the tension cut-off when there is one.
+    const T p_trial = has_tension_cutoff() ? vmax(p_star, T(tension_cutoff)) : p_star;
     // Dilatancy is shear-induced bulking against a confining pressure, so Eq. 5b acts only for
     // p* > 0. Without confinement there is nothing to bulk against, and a fully damaged particle
     // (Y = 0 in tension) would turn all of each step's shear into K q_psi dlambda of compression:
@@ -106,7 +120,7 @@ struct ModifiedLundborg {
     // Eqs. 6a-6c and 40 through the common bookkeeping: with tau* - tau = G dl and
     // p - p* = K q_psi dl it gives deps_bar = dl sqrt(1/3 + 2 q_psi^2 / 9) (Eq. 6c) and
     // dQ = dl (tau - q_psi p).
-    book_plastic_work(tau_trial, tau, p_trial, p, elastic, st);
+    book_plastic_work(tau_trial, tau, p_star, p, elastic, st);
   }
 };
 

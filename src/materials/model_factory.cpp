@@ -69,13 +69,19 @@ AnyStrength make_strength(const MaterialSpec& s) {
     const double friction_intact = s.get("friction_intact");
     const double friction_damaged = s.get("friction_damaged");
     const double limit = s.get("strength_limit");
+    // The tension cut-off: absent, the models' default (-infinity, no cut-off).
+    const bool cutoff = s.params.count("tension_cutoff") != 0;
     if (m == "lundborg") {
-      return strength::Lundborg{
+      strength::Lundborg l{
           el, cohesion, friction_intact, friction_damaged, limit, opt(s, "melt_energy", 0.0)};
+      if (cutoff) l.tension_cutoff = s.get("tension_cutoff");
+      return l;
     }
-    return strength::ModifiedLundborg{
+    strength::ModifiedLundborg l{
         el,    cohesion,           friction_intact,         friction_damaged,
         limit, s.get("dilatancy"), opt(s, "melt_heat", 0.0)};
+    if (cutoff) l.tension_cutoff = s.get("tension_cutoff");
+    return l;
   }
   throw MaterialError("material '" + s.name + "': unknown strength '" + m + "'", "strength");
 }

@@ -25,12 +25,13 @@ const std::vector<ModelSchema>& strength_schemas() {
       {"linear_hardening", {"yield", "plastic_modulus"}, {}},
       {"benz_asphaug", {"yield"}, {}},
       {"drucker_prager", {"cohesion", "friction", "dilatancy", "tension_cutoff"}, {}},
+      // tension_cutoff: the optional tension cut-off p_t <= 0 (kernels/strength/lundborg.hpp).
       {"lundborg",
        {"cohesion", "friction_intact", "friction_damaged", "strength_limit"},
-       {"melt_energy"}},
+       {"melt_energy", "tension_cutoff"}},
       {"modified_lundborg",
        {"cohesion", "friction_intact", "friction_damaged", "strength_limit", "dilatancy"},
-       {"melt_heat"}},
+       {"melt_heat", "tension_cutoff"}},
   };
   return k;
 }

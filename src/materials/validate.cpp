@@ -151,6 +151,9 @@ void check_strength(const MaterialSpec& spec, const Checker& c) {
     c.non_negative("dilatancy");
     c.non_negative("melt_energy");
     c.non_negative("melt_heat");
+    // The tension cut-off (optional): a pressure p_t <= 0 below which p is clipped; p_t > 0
+    // would put compressed material on the cut-off.
+    c.non_positive("tension_cutoff");
     if (!(c.value("strength_limit") > c.value("cohesion")))
       fail(spec, "strength_limit",
            fmt::format("= {} must exceed cohesion = {}", c.value("strength_limit"),

@@ -20,6 +20,9 @@ density ratio of Holsapple & Housen 2007 / Housen & Holsapple 2011, nu = 0.4):
 dry sand K1 = 0.24, mu = 0.41 (Holsapple 1993: pi_V = 0.24 pi_2^-0.51; = K1 0.132 of the
 g a / U^2 form, 0.132 x 3.22^0.51 = 0.24) and the non-porous class (water, wet soils, rock in
 the gravity regime) K1 = 0.2, mu = 0.55 (pi_V = 0.2 pi_2^-0.65; K1 0.095 of the other form).
+The g a / U^2 constants (dry sand 0.132 / 0.41; wet soils, soft and hard rock 0.095 / 0.55) are
+those of Holsapple's crater-size spreadsheet notes ("Notes on Crater Scaling Results", after
+Holsapple 1993 and Schmidt & Housen 1987), read in session 18 (docs/validation-porosity.md).
 rho is the target's bulk density, delta and m the projectile's density and mass.
 Runs at g = 0 (LABEL pi2 = 0) give the crater without gravity; with them, the fit's two-term
 (gravity-strength transition) form of Holsapple 1993 / Holsapple & Housen 2007,
@@ -142,39 +145,45 @@ def plot(prefix, runs, table):
         for name, (k1, mu) in FITS.items():
             if fit_for(phi) != name:
                 continue
-            g0 = [r for r in table if r["pi2"] == 0.0 and r["porosity"] == phi
-                  and r["series"] == "L" and r["cppr"] == 5]
+            # The two-term form with S from the g = 0 run of the first series given (series L
+            # at 5 CPPR in session 17's figure), where that run stopped growing.
+            g0 = [r for r in table if r["pi2"] == 0.0 and r["porosity"] == phi]
             if g0:
                 rho = RHO_MATRIX * (1.0 - phi)
                 S = strength_term(k1, mu, g0[0]["pi_V"])
                 ax.plot(p2, pi_v_two_term(k1, mu, p2, rho / RHO_PROJ, S), ":", color=col,
-                        label=name.split(" (")[0] + " two-term, S from series L's g = 0 run")
-    markers = {"L": "o", "Lp": "^", "D": "s"}
+                        label=name.split(" (")[0] + f" two-term, S from series {g0[0]['series']}'s"
+                        f" g = 0 run ({g0[0]['cppr']} CPPR)")
+    markers = {"L": "o", "Lp": "^", "D": "s", "LT": "D"}
     for row in table:
         if row["pi2"] == 0.0:
             continue
         c = colours.get(row["porosity"], "k")
         mk = markers.get(row["series"], "x")
-        ms = 10 if row["cppr"] > 5 else 6
+        ms = {5: 6, 10: 10}.get(row["cppr"], 13)
         ax.plot(row["pi2"], row["pi_V"], mk, color=c, ms=ms)
         ax.plot(row["pi2"], row["pi_V_final"], mk, color=c, mfc="none", ms=ms)
     for phi, c in colours.items():
         ax.plot([], [], "o", color=c, label=f"porosity {phi:.0%}")
     for sname, mk in markers.items():
+        if not any(r["series"] == sname for r in table):
+            continue
         ax.plot([], [], mk, color="grey", label=f"series {sname} (filled: transient, open: final)")
-    ax.plot([], [], "o", color="grey", ms=10, label="large: 10 CPPR, small: 5 CPPR")
+    ax.plot([], [], "o", color="grey", ms=10, label="small: 5, large: 10, largest: 20 CPPR")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("pi_2 = 3.22 g a / U^2")
     ax.set_ylabel("pi_V = rho V / m")
     ax.legend(fontsize=7)
     ax.grid(True, which="both", alpha=0.3)
+    main_series = runs[0][5]  # the growth curves of the first series given, and every g = 0 run
     for phi, pi2, cppr, _, hist, series in runs:
-        if series != "L" and pi2 != 0.0:
+        if series != main_series and pi2 != 0.0:
             continue
         h = np.array([r for r in hist if np.isfinite(r[3])])
         ls = {0.0: (0, (1, 1)), 3e-4: ":", 1e-3: "--", 3e-3: "-"}.get(pi2, "-.")
-        bx.plot(h[:, 0], h[:, 3], linestyle=ls, color=colours.get(phi, "k"), lw=1.6 if cppr > 5 else 1.0,
+        bx.plot(h[:, 0], h[:, 3], linestyle=ls, color=colours.get(phi, "k"),
+                lw={5: 1.0, 10: 1.6}.get(cppr, 2.4),
                 label=f"{series} {phi:.0%}, pi_2 {pi2:g}, {cppr} CPPR")
     bx.set_xlabel("t (a/U)")
     bx.set_ylabel("cavity volume below z = 0 (a^3)")

@@ -7,9 +7,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "material_test_support.hpp"
+#include "materials/model_factory.hpp"
 
 namespace shatter {
 namespace {
@@ -129,6 +131,33 @@ TEST(Validation, LundborgLimitBelowCohesion) {
   EXPECT_NE(error_of(s).find("key=strength_limit"), std::string::npos);
 }
 
+TEST(Validation, LundborgTensionCutOffMustNotBePositive) {
+  // tension_cutoff (optional, lundborg and modified_lundborg): p_t <= 0; 0 and -1 MPa pass.
+  for (const char* name : {"basalt_asteroid_lundborg", "basalt_lab_lundborg"}) {
+    auto s = MaterialCatalogue::builtin().get(name);
+    s.params["tension_cutoff"] = 1e6;
+    EXPECT_NE(error_of(s).find("key=tension_cutoff"), std::string::npos) << name;
+    for (double pt : {0.0, -1e6}) {
+      s.params["tension_cutoff"] = pt;
+      EXPECT_EQ(error_of(s), "") << name;
+    }
+  }
+}
+
+TEST(Factory, LundborgTensionCutOffOnlyWithTheKey) {
+  for (const char* name : {"basalt_asteroid_lundborg", "basalt_lab_lundborg"}) {
+    auto s = MaterialCatalogue::builtin().get(name);
+    const bool ml = s.strength == "modified_lundborg";
+    auto cut = [&](const materials::AnyStrength& a) {
+      return ml ? std::get<strength::ModifiedLundborg>(a).tension_cutoff
+                : std::get<strength::Lundborg>(a).tension_cutoff;
+    };
+    EXPECT_EQ(cut(materials::make_strength(s)), -std::numeric_limits<double>::infinity()) << name;
+    s.params["tension_cutoff"] = -2e6;
+    EXPECT_EQ(cut(materials::make_strength(s)), -2e6) << name;
+  }
+}
+
 TEST(Validation, IdealGasGammaAtMostOne) {
   const auto s = test::spec("g", "ideal_gas", "hydro", {{"rho0", 1.0}, {"gamma", 1.0}});
   EXPECT_NE(error_of(s).find("key=gamma"), std::string::npos);
@@ -182,6 +211,25 @@ TEST_F(CatalogueFile, ErrorNamesFileLineAndKey) {
   const auto msg = load_error(p);
   EXPECT_NE(msg.find(p.string() + ":6:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'gamma'"), std::string::npos) << msg;
+}
+
+TEST_F(CatalogueFile, LundborgTensionCutOffAboveZeroNamesLineAndKey) {
+  const auto p = write(
+      "[sand]\n"
+      "source = \"test\"\n"
+      "eos = \"linear_elastic\"\n"
+      "strength = \"lundborg\"\n"
+      "rho0 = 2000.0\n"
+      "young = 1e9\n"
+      "poisson = 0.25\n"
+      "cohesion = 1.0\n"
+      "friction_intact = 0.6\n"
+      "friction_damaged = 0.6\n"
+      "strength_limit = 1e9\n"
+      "tension_cutoff = 5.0\n");
+  const auto msg = load_error(p);
+  EXPECT_NE(msg.find(p.string() + ":12:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'tension_cutoff'"), std::string::npos) << msg;
 }
 
 TEST_F(CatalogueFile, MissingSourceIsAnError) {

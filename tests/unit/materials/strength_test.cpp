@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "strength/benz_asphaug.hpp"
@@ -155,6 +156,77 @@ TEST(Lundborg, MeltSoftening) {
   EXPECT_EQ(m.yield(1e9, 0.0, 5e6), 0.0);
 }
 
+// Tension cut-off of the Lundborg surface (material key tension_cutoff; lundborg.hpp): below
+// p_t the pressure is clipped to p_t and Y taken there; at and above p_t, and without the key,
+// the return is the original one bit for bit.
+TEST(Lundborg, TensionCutOffActsBelowPtAndNowhereElse) {
+  // The granular target of scenes/porosity (cohesion 1 Pa, friction 0.6, Ym 1 GPa).
+  const strength::Lundborg off{kBasalt, 1.0, 0.6, 0.6, 1e9, 0.0};
+  EXPECT_FALSE(off.has_tension_cutoff());  // the default: no cut-off
+  for (double pt : {0.0, -20e6}) {
+    strength::Lundborg on = off;
+    on.tension_cutoff = pt;
+    ASSERT_TRUE(on.has_tension_cutoff());
+    for (double p : {-1e9, -50e6, -20e6, -1.0, 0.0, 1e6, 300e6, 5e9}) {
+      for (double d : {0.0, 1.0}) {
+        for (double t : {0.0, 1e6, 2e9}) {
+          double s_off[6], s_on[6];
+          shear(s_off, t);
+          shear(s_on, t);
+          auto st_off = state(p, d), st_on = state(p, d);
+          st_off.heat = st_on.heat = 7.0;
+          off.return_map(s_off, st_off);
+          on.return_map(s_on, st_on);
+          // Without the key: the pressure is never touched (the original return).
+          EXPECT_EQ(st_off.p, p);
+          if (p >= pt) {
+            // At and above p_t the cut-off changes nothing, bit for bit.
+            EXPECT_EQ(st_on.p, st_off.p) << p;
+            EXPECT_EQ(s_on[3], s_off[3]) << p;
+            EXPECT_EQ(st_on.heat, st_off.heat) << p;
+            EXPECT_EQ(st_on.eps_p, st_off.eps_p) << p;
+          } else {
+            // Below: p = p_t, tau = min(tau*, Y(p_t)) (Eqs. 47-49 at the clipped pressure), and
+            // the return's work (Eq. 40) booked with the pressure change p_t - p*.
+            EXPECT_EQ(st_on.p, pt) << p;
+            const double y = on.yield(pt, d, 0.0);
+            EXPECT_EQ(tau(s_on), std::min(t, y)) << p;
+            const double dtau = t - tau(s_on), dp = pt - p;
+            const double dq = tau(s_on) * dtau / kBasalt.G - pt * dp / kBasalt.K;
+            EXPECT_NEAR(st_on.heat, 7.0 + std::max(dq, 0.0) / 2700.0, 1e-12 * st_on.heat) << p;
+            const double eps = std::sqrt(2.0 / 3.0 *
+                                         (dtau * dtau / (2.0 * kBasalt.G * kBasalt.G) +
+                                          dp * dp / (3.0 * kBasalt.K * kBasalt.K)));
+            EXPECT_NEAR(st_on.deps_p, eps, 1e-12 * eps) << p;
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(Lundborg, WithoutTheCutOffTheReturnIsTheOriginalOne) {
+  // The return before the key existed, written out: tau = min(tau*, Y(p*)), s scaled, p kept.
+  const strength::Lundborg m{kBasalt, 90e6, 1.5, 0.8, 1500e6, 3.4e6};
+  for (double p : {-1e9, -30e6, 0.0, 1e8, 3e9}) {
+    double s[6] = {1e8, -3e8, 2e8, 4e8, -1e8, 5e7};
+    double s_ref[6];
+    for (int k = 0; k < 6; ++k) s_ref[k] = s[k];
+    auto st = state(p, 0.4);
+    st.energy = 1e6;
+    auto st_ref = st;
+    m.return_map(s, st);
+    const double tau_trial = std::sqrt(strength::j2(s_ref));
+    const double t = std::min(tau_trial, m.yield(p, 0.4, 1e6));
+    for (auto& c : s_ref) c = c * (t / std::max(tau_trial, strength::kTinyStress));
+    strength::book_plastic_work(tau_trial, t, p, p, kBasalt, st_ref);
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(s[k], s_ref[k]) << p;
+    EXPECT_EQ(st.p, p);
+    EXPECT_EQ(st.heat, st_ref.heat);
+    EXPECT_EQ(st.eps_p, st_ref.eps_p);
+  }
+}
+
 // --- modified Lundborg (Sec. 3.1) ---
 
 const strength::ModifiedLundborg kML{kBasalt, 90e6, 1.5, 0.8, 1500e6, 0.256, 3.4e6};
@@ -210,6 +282,35 @@ TEST(ModifiedLundborg, DilatancyNeedsConfinement) {
   auto st = state(1e6, 1.0);
   kML.return_map(s, st);
   EXPECT_GT(st.p, 1e6 + 100e6);
+}
+
+TEST(ModifiedLundborg, TensionCutOffActsBelowPtAndNowhereElse) {
+  // The same cut-off as Lundborg's: below p_t the corrector starts from p_t (no dilatancy there,
+  // p_t <= 0) and returns to Eq. 4 at p_t; at and above p_t, bitwise the return without it.
+  strength::ModifiedLundborg on = kML;
+  on.tension_cutoff = -10e6;
+  EXPECT_FALSE(kML.has_tension_cutoff());
+  for (double p : {-1e9, -50e6, -10e6, 0.0, 100e6, 1e9}) {
+    for (double d : {0.0, 1.0}) {
+      double s_off[6], s_on[6];
+      shear(s_off, 3e9);
+      shear(s_on, 3e9);
+      auto st_off = state(p, d), st_on = state(p, d);
+      kML.return_map(s_off, st_off);
+      on.return_map(s_on, st_on);
+      if (p >= -10e6) {
+        EXPECT_EQ(st_on.p, st_off.p) << p;
+        EXPECT_EQ(s_on[3], s_off[3]) << p;
+        EXPECT_EQ(st_on.heat, st_off.heat) << p;
+      } else {
+        EXPECT_EQ(st_off.p, p);  // no cut-off: tension kept
+        EXPECT_EQ(st_on.p, -10e6) << p;
+        double y, h;
+        on.yield(-10e6, d, 1.0, y, h);
+        EXPECT_NEAR(tau(s_on), y, 1e-9 * 3e9) << p;
+      }
+    }
+  }
 }
 
 TEST(ModifiedLundborg, StaysOnSurfaceUnderContinuedLoading) {
