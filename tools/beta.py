@@ -12,7 +12,9 @@ Prints, from RUN/timeseries.csv and RUN/ejecta_launch.csv (pure Python: no numpy
     constants are options; the defaults are the sand class as recalled in this session
     (mu 0.41, nu 0.4, k 0.3, C1 0.55): check them against HH2011's Table 3 before quoting.
 With --csv FILE the M(>v) comparison is written as CSV; with --plot FILE.png (matplotlib) both
-figures.
+figures. With --fit LO HI the exponent is fitted to the run: a least-squares line through
+log M(>=v) against log(v/U) at every launched point with LO <= v/U <= HI gives the slope -3 mu
+(HH2011's power law, Eq. as above) and mu_fit = -slope / 3, printed beside --mu.
 
 Usage: beta.py RUN_DIR [--target-density 2400] [--impactor-density 2703] [--mu 0.41] ...
 """
@@ -82,6 +84,31 @@ def mass_speed(launches, m_imp, speed, a, escape):
     return out
 
 
+def fit_mu(launches, m_imp, speed, lo, hi, escape):
+    """(mu, prefactor, points used) of M(>=v)/m = A (v/U)^(-3 mu) fitted over lo <= v/U <= hi:
+    least squares in log-log through the cumulative mass at every launched point's speed."""
+    pts = sorted(((float(r["speed_m_per_s"]), float(r["mass_kg"])) for r in launches),
+                 reverse=True)
+    xs, ys, cum = [], [], 0.0
+    for v, m in pts:
+        if v < escape:
+            break
+        cum += m
+        x = v / speed
+        if lo <= x <= hi and cum > 0.0:
+            xs.append(math.log(x))
+            ys.append(math.log(cum / m_imp))
+    n = len(xs)
+    if n < 2:
+        return float("nan"), float("nan"), n
+    mx, my = sum(xs) / n, sum(ys) / n
+    sxx = sum((x - mx) ** 2 for x in xs)
+    if sxx == 0.0:
+        return float("nan"), float("nan"), n
+    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
+    return -slope / 3.0, math.exp(my - slope * mx), n
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("run")
@@ -94,6 +121,8 @@ def main():
     ap.add_argument("--C1", type=float, default=0.55)
     ap.add_argument("--escape-speed", type=float, default=0.0,
                     help="leave out launches slower than this (m/s)")
+    ap.add_argument("--fit", nargs=2, type=float, metavar=("LO", "HI"),
+                    help="fit mu to M(>v) over LO <= v/U <= HI")
     ap.add_argument("--csv", help="write the M(>v) comparison here")
     ap.add_argument("--plot", help="write beta(t) and M(>v) figures here (needs matplotlib)")
     a = ap.parse_args()
@@ -106,6 +135,10 @@ def main():
     print("v/U          M(>v)/m      HH2011       ratio")
     for x, m, h in table:
         print(f"{x:<12.4g} {m:<12.4g} {h:<12.4g} {m / h if h > 0 else float('nan'):.3g}")
+    if a.fit:
+        mu, pre, n = fit_mu(launches, m_imp, speed, a.fit[0], a.fit[1], a.escape_speed)
+        print(f"\nfit over {a.fit[0]:g} <= v/U <= {a.fit[1]:g} ({n} points): mu_fit {mu:.4f} "
+              f"(M(>v)/m = {pre:.4g} (v/U)^{-3 * mu:.4f}); --mu {a.mu}")
     if a.csv:
         with open(a.csv, "w") as f:
             f.write("v_over_U,M_over_m,hh2011_M_over_m\n")

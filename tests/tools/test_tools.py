@@ -272,6 +272,23 @@ def test_beta_escape_speed_leaves_out_slow_launches(tmp_path):
     assert rows[-1][0] == pytest.approx(0.2) and rows[-1][1] == pytest.approx(1.0)
 
 
+def test_beta_fits_the_power_law_exponent_over_the_range_asked(tmp_path):
+    run = tmp_path / "run"
+    # M(>=v)/m = 0.1 (v/U)^(-1.2), i.e. mu = 0.4, at v = 80, 40, ..., 0.625 m/s (U = 100 m/s,
+    # m_imp = 2 kg); one slow launch at 0.1 m/s (v/U = 0.001) far off the law (+50 kg).
+    speeds = [80.0 * 0.5**i for i in range(8)]
+    cumulative = [2.0 * 0.1 * (v / 100.0) ** -1.2 for v in speeds]
+    masses = [cumulative[0]] + [b - a for a, b in zip(cumulative, cumulative[1:])]
+    write_beta_run(run, [1.0, 1.2], list(zip(speeds, masses)) + [(0.1, 50.0)])
+    r = run_tool_beta(run, "--fit", "0.005", "1")
+    assert r.returncode == 0, r.stderr
+    assert "(8 points): mu_fit 0.4000" in r.stdout, r.stdout
+    assert "(M(>v)/m = 0.1 (v/U)^-1.2000)" in r.stdout, r.stdout
+    # The range decides: with the off-law launch inside it the fit is not 0.4.
+    r = run_tool_beta(run, "--fit", "0.0005", "1")
+    assert "(9 points): mu_fit 0.4000" not in r.stdout, r.stdout
+
+
 def test_beta_refuses_a_run_without_beta_columns(tiny_run):
     r = run_tool_beta(tiny_run)
     assert r.returncode != 0
