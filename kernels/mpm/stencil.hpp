@@ -221,34 +221,30 @@ struct Stencil {
 
   static constexpr int kRow = 6 * W;  // doubles per particle in a StencilCache
 
+  // Weights, derivatives and the packed node offsets of one row (stored or recomputed).
+  void from_row(const double* row, unsigned packed, const SparseGrid::Coord& owner) {
+    std::copy(row, row + 3 * W, &w[0][0]);
+    std::copy(row + 3 * W, row + kRow, &dw[0][0]);
+    const int base[3] = {owner.x * SparseGrid::kBlock, owner.y * SparseGrid::kBlock,
+                         owner.z * SparseGrid::kBlock};
+    for (int d = 0; d < 3; ++d) {
+      off[d] = static_cast<int>((packed >> (2 * d)) & 3U);
+      first[d] = base[d] + off[d];
+    }
+  }
+
   // The stencil of particle p: computed, computed and stored, or loaded (StencilCache::Mode).
   void prepare(const StencilCache& cache, std::size_t p, const double xi[3], double half_size,
                const SparseGrid::Coord& owner) {
     if (cache.mode == StencilCache::kLoad) {
-      const double* row = cache.w + p * kRow;
-      std::copy(row, row + 3 * W, &w[0][0]);
-      std::copy(row + 3 * W, row + kRow, &dw[0][0]);
-      const unsigned o = cache.off[p];
-      const int base[3] = {owner.x * SparseGrid::kBlock, owner.y * SparseGrid::kBlock,
-                           owner.z * SparseGrid::kBlock};
-      for (int d = 0; d < 3; ++d) {
-        off[d] = static_cast<int>((o >> (2 * d)) & 3U);
-        first[d] = base[d] + off[d];
-      }
+      from_row(cache.w + p * kRow, cache.off[p], owner);
       return;
     }
     if constexpr (kRecomputedRows<Shape>) {
       if (cache.mode == StencilCache::kRecompute) {  // the row store_stencils would store
         double row[kRow];
         const unsigned o = gimp_rows::row(cache, p, row, 1);
-        std::copy(row, row + 3 * W, &w[0][0]);
-        std::copy(row + 3 * W, row + kRow, &dw[0][0]);
-        const int base[3] = {owner.x * SparseGrid::kBlock, owner.y * SparseGrid::kBlock,
-                             owner.z * SparseGrid::kBlock};
-        for (int d = 0; d < 3; ++d) {
-          off[d] = static_cast<int>((o >> (2 * d)) & 3U);
-          first[d] = base[d] + off[d];
-        }
+        from_row(row, o, owner);
         return;
       }
     }
