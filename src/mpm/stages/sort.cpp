@@ -99,7 +99,14 @@ void compute_keys_in(State& s) {
                         std::int64_t b[3] = {0, 0, 0};
                         for (int d = 0; d < 3; ++d) {
                           if (kAxisymmetric && d == 1) continue;
-                          const double xi = X[d][p] * ih - shift;
+                          // uGIMP rows are recomputed with this product fused (gimp_rows::axis,
+                          // kernels/mpm/stencil.hpp): the key takes its first node the same
+                          // way, so a row's first node lies in its owner block whatever the
+                          // compiler contracts (GCC fuses nothing at -O1; Release fused it
+                          // here before, so the same bits there).
+                          const double xi = kernels::kRecomputedRows<Shape>
+                                                ? std::fma(X[d][p], ih, -shift)
+                                                : X[d][p] * ih - shift;
                           // Out-of-range (or NaN) positions are caught by check_finite;
                           // clamp so the key stays defined meanwhile.
                           const double c = std::isfinite(xi) ? std::clamp(xi, -limit, limit) : 0.0;
