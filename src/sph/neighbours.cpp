@@ -54,6 +54,54 @@ void rows_around(const std::vector<std::uint64_t>& cell_key,
   }
 }
 
+void check_arguments(std::size_t n, std::size_t n_lists, double skin) {
+  if (!(skin >= 0.0) || !std::isfinite(skin)) {
+    throw std::invalid_argument(fmt::format("neighbour search: skin must be >= 0, got {}", skin));
+  }
+  if (n >= std::numeric_limits<std::uint32_t>::max()) {
+    throw std::invalid_argument(fmt::format("neighbour search: {} points exceed 2^32 - 1", n));
+  }
+  if (n_lists > n) {
+    throw std::invalid_argument(
+        fmt::format("neighbour search: lists for {} of only {} points", n_lists, n));
+  }
+}
+
+// Bounding box and largest h of n >= 1 points (min/max are exact: any order gives the same
+// result).
+struct Box {
+  double lo[3], hi[3];
+  double hmax;
+};
+Box bounding_box(const double* x, const double* y, const double* z, const double* h,
+                 std::size_t n) {
+  Box b{{x[0], y[0], z[0]}, {x[0], y[0], z[0]}, h[0]};
+  for (std::size_t p = 0; p < n; ++p) {
+    const double c[3] = {x[p], y[p], z[p]};
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = std::min(b.lo[d], c[d]);
+      b.hi[d] = std::max(b.hi[d], c[d]);
+    }
+    b.hmax = std::max(b.hmax, h[p]);
+  }
+  if (!(b.hmax > 0.0) || !std::isfinite(b.hmax)) {
+    throw std::invalid_argument(fmt::format("neighbour search: largest h is {}", b.hmax));
+  }
+  return b;
+}
+
+// Cell edge: the largest support plus the skin, 2 hmax + skin >= h_i + h_j + skin, so the 27
+// cells around a point hold all its neighbours. Only occupied cells exist (sorted keys), so
+// debris flying far costs nothing; only a cloud wider than 2^21 cells on an axis gets larger
+// cells.
+double cell_edge(const Box& b, double skin) {
+  double cs = 2.0 * b.hmax + skin;
+  for (int d = 0; d < 3; ++d) {
+    while ((b.hi[d] - b.lo[d]) / cs >= static_cast<double>(kAxisCells - 2)) cs *= 2.0;
+  }
+  return cs;
+}
+
 }  // namespace
 
 std::size_t NeighbourSearch::bytes() const {
@@ -123,16 +171,7 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
 bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const double* z,
                                    const double* h, std::size_t n, std::size_t n_lists, double skin,
                                    bool keep_lists) {
-  if (!(skin >= 0.0) || !std::isfinite(skin)) {
-    throw std::invalid_argument(fmt::format("neighbour search: skin must be >= 0, got {}", skin));
-  }
-  if (n >= std::numeric_limits<std::uint32_t>::max()) {
-    throw std::invalid_argument(fmt::format("neighbour search: {} points exceed 2^32 - 1", n));
-  }
-  if (n_lists > n) {
-    throw std::invalid_argument(
-        fmt::format("neighbour search: lists for {} of only {} points", n_lists, n));
-  }
+  check_arguments(n, n_lists, skin);
   n_ = n;
   cell_.resize(n);
   sorted_.resize(n);
@@ -151,31 +190,10 @@ bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const doubl
     return false;
   }
 
-  // Bounding box and largest h (min/max are exact: any order gives the same result).
-  double lo[3] = {x[0], y[0], z[0]}, hi[3] = {x[0], y[0], z[0]};
-  double hmax = h[0];
-  for (std::size_t p = 0; p < n; ++p) {
-    const double c[3] = {x[p], y[p], z[p]};
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::min(lo[d], c[d]);
-      hi[d] = std::max(hi[d], c[d]);
-    }
-    hmax = std::max(hmax, h[p]);
-  }
-  if (!(hmax > 0.0) || !std::isfinite(hmax)) {
-    throw std::invalid_argument(fmt::format("neighbour search: largest h is {}", hmax));
-  }
-
-  // Cell edge: the largest support plus the skin, 2 hmax + skin >= h_i + h_j + skin, so the 27
-  // cells around a point hold all its neighbours. Only occupied cells exist (sorted keys), so
-  // debris flying far costs nothing; only a cloud wider than 2^21 cells on an axis gets larger
-  // cells.
-  double cs = 2.0 * hmax + skin;
-  for (int d = 0; d < 3; ++d) {
-    while ((hi[d] - lo[d]) / cs >= static_cast<double>(kAxisCells - 2)) cs *= 2.0;
-  }
-  cell_size_ = cs;
-  const double inv = 1.0 / cs;
+  const Box box = bounding_box(x, y, z, h, n);
+  const double* lo = box.lo;
+  cell_size_ = cell_edge(box, skin);
+  const double inv = 1.0 / cell_size_;
 
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
