@@ -20,6 +20,10 @@
 #include <cstddef>
 #include <cstdint>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 #include "constitutive/simd.hpp"
 #include "sph/cubic_spline.hpp"
 #include "sph/terms.hpp"
@@ -133,16 +137,46 @@ struct PairInputs {
 // |x_i - x_j| < h_i + h_j by the neighbour search's own expression (src/sph/neighbours.cpp),
 // written in list order to `active` (room for count entries); returns how many. A list with a
 // Verlet skin compacts to exactly the list a search without the skin makes. Branch-free.
+//
+// The distance test is written with its fused multiply-adds spelled out,
+// r^2 = fma(dz, dz, fma(dx, dx, dy dy)), the contraction GCC 12 made of
+// dx dx + dy dy + dz dz here before (read from the object code, session 19), so that the lanes
+// below and the scalar loop decide every pair alike, and as before. With AVX-512 (VL) the list is
+// taken 8 entries at a time: the neighbours' x, y, z, h gathered into lanes, the indices of the
+// pairs within support compressed in a register (vpcompressd; its store form is slow on Zen 4)
+// and stored as 8 lanes at the current end (m <= k, so the lanes past the kept ones stay inside
+// this list's slots and are overwritten or unused).
 inline std::size_t compact_within_support(const PairInputs& in, const std::uint32_t* nb,
                                           std::size_t count, std::size_t i, std::uint32_t* active) {
   const double xi = in.x[i], yi = in.y[i], zi = in.z[i], hi = in.h[i];
-  std::size_t m = 0;
-  for (std::size_t k = 0; k < count; ++k) {
+  std::size_t m = 0, k = 0;
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+  const __m512d XI = _mm512_set1_pd(xi), YI = _mm512_set1_pd(yi), ZI = _mm512_set1_pd(zi),
+                HI = _mm512_set1_pd(hi);
+  const auto lanes = [](const double* col, const std::uint32_t* j) {
+    return _mm512_setr_pd(col[j[0]], col[j[1]], col[j[2]], col[j[3]], col[j[4]], col[j[5]],
+                          col[j[6]], col[j[7]]);
+  };
+  for (; k + 8 <= count; k += 8) {
+    const std::uint32_t* j = nb + k;
+    const __m512d dx = _mm512_sub_pd(XI, lanes(in.x, j));
+    const __m512d dy = _mm512_sub_pd(YI, lanes(in.y, j));
+    const __m512d dz = _mm512_sub_pd(ZI, lanes(in.z, j));
+    const __m512d reach = _mm512_add_pd(HI, lanes(in.h, j));
+    const __m512d r2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dx, dx, _mm512_mul_pd(dy, dy)));
+    const __mmask8 within = _mm512_cmp_pd_mask(r2, _mm512_mul_pd(reach, reach), _CMP_LT_OQ);
+    const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(j));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(active + m),
+                        _mm256_maskz_compress_epi32(within, idx));
+    m += static_cast<std::size_t>(__builtin_popcount(within));
+  }
+#endif
+  for (; k < count; ++k) {
     const std::uint32_t j = nb[k];
     const double dx = xi - in.x[j], dy = yi - in.y[j], dz = zi - in.z[j];
     const double reach = hi + in.h[j];
     active[m] = j;
-    m += dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0;
+    m += std::fma(dz, dz, std::fma(dx, dx, dy * dy)) < reach * reach ? 1 : 0;
   }
   return m;
 }
