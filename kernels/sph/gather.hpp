@@ -133,15 +133,26 @@ struct PairInputs {
   const double* h = nullptr;  // smoothing length
 };
 
+// |x_i - x_j|^2 as the neighbour search (src/sph/neighbours.cpp) and compact_within_support
+// both compute it, so that they decide every pair alike. With FMA, the two fused multiply-adds
+// that GCC 12 contracted dx dx + dy dy + dz dz into in both places at -O2 and above (read from the
+// object code, session 19), spelled out so that neither the optimisation level nor the SIMD
+// path below changes them; without FMA, the plain sum.
+inline double distance2(double dx, double dy, double dz) {
+#if defined(__FMA__)
+  return std::fma(dz, dz, std::fma(dx, dx, dy * dy));
+#else
+  return dx * dx + dy * dy + dz * dz;
+#endif
+}
+
 // The entries of i's list (nb, count) within support at the current positions,
 // |x_i - x_j| < h_i + h_j by the neighbour search's own expression (src/sph/neighbours.cpp),
 // written in list order to `active` (room for count entries); returns how many. A list with a
 // Verlet skin compacts to exactly the list a search without the skin makes. Branch-free.
 //
-// The distance test is written with its fused multiply-adds spelled out,
-// r^2 = fma(dz, dz, fma(dx, dx, dy dy)), the contraction GCC 12 made of
-// dx dx + dy dy + dz dz here before (read from the object code, session 19), so that the lanes
-// below and the scalar loop decide every pair alike, and as before. With AVX-512 (VL) the list is
+// The distance test is distance2's, in the lanes too, so that both paths decide every pair alike
+// and as before. With AVX-512 (VL) the list is
 // taken 8 entries at a time: the neighbours' x, y, z, h gathered into lanes, the indices of the
 // pairs within support compressed in a register (vpcompressd; its store form is slow on Zen 4)
 // and stored as 8 lanes at the current end (m <= k, so the lanes past the kept ones stay inside
@@ -150,7 +161,7 @@ inline std::size_t compact_within_support(const PairInputs& in, const std::uint3
                                           std::size_t count, std::size_t i, std::uint32_t* active) {
   const double xi = in.x[i], yi = in.y[i], zi = in.z[i], hi = in.h[i];
   std::size_t m = 0, k = 0;
-#if defined(__AVX512F__) && defined(__AVX512VL__)
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__FMA__)
   const __m512d XI = _mm512_set1_pd(xi), YI = _mm512_set1_pd(yi), ZI = _mm512_set1_pd(zi),
                 HI = _mm512_set1_pd(hi);
   const auto lanes = [](const double* col, const std::uint32_t* j) {
@@ -176,7 +187,7 @@ inline std::size_t compact_within_support(const PairInputs& in, const std::uint3
     const double dx = xi - in.x[j], dy = yi - in.y[j], dz = zi - in.z[j];
     const double reach = hi + in.h[j];
     active[m] = j;
-    m += std::fma(dz, dz, std::fma(dx, dx, dy * dy)) < reach * reach ? 1 : 0;
+    m += distance2(dx, dy, dz) < reach * reach ? 1 : 0;
   }
   return m;
 }

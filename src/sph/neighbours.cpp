@@ -11,6 +11,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include "sph/gather.hpp"
+
 namespace shatter::sph {
 namespace {
 
@@ -293,7 +295,8 @@ void NeighbourSearch::gather_chunk(std::size_t c, const Coordinates& at, std::si
         const double dx = xi - xs_[t], dy = yi - ys_[t], dz = zi - zs_[t];
         const double reach = hi_ + hs_[t] + skin;  // 2 h_ij (+ the skin)
         out[m] = sorted_[t];
-        m += (dx * dx + dy * dy + dz * dz < reach * reach) & (sorted_[t] != i) ? 1 : 0;
+        // The compaction's own expression (kernels/sph/gather.hpp).
+        m += (kernels::sph::distance2(dx, dy, dz) < reach * reach) & (sorted_[t] != i) ? 1 : 0;
       }
     }
     // Ascending index: the canonical order, whatever the cells and skin. Points re-ordered by
