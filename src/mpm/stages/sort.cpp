@@ -25,7 +25,7 @@ void reorder(State& s) {
         s.order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
         [&](std::uint32_t a, std::uint32_t b) { return s.owner_keys[a] < s.owner_keys[b]; });
   }
-  P.permute(s.order);
+  P.permute(s.order, s.scratch.dx);  // a dead buffer here (Scratch)
   std::vector<std::uint64_t> sorted(n);
   for (std::size_t k = 0; k < n; ++k) sorted[k] = s.owner_keys[s.order[k]];
   s.owner_keys.swap(sorted);
@@ -37,7 +37,7 @@ void sort(State& s) {
   const std::size_t n = P.size();
   s.owner_keys.resize(n);
   Scratch& sc = s.scratch;
-  for (auto* v : {&sc.dx, &sc.dy, &sc.dz, &sc.kinetic, &sc.kinetic_transferred}) v->resize(n);
+  for (auto* v : {&sc.dx, &sc.dy, &sc.dz, &sc.kinetic}) v->resize(n);
   sc.potential.resize(s.uniform_gravity() ? n : 0);  // none without gravity (Scratch)
   // uGIMP's rows are recomputed at every read (State::stencil_rows): none stored.
   constexpr bool stored = !kernels::kRecomputedRows<Shape>;
