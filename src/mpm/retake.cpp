@@ -51,7 +51,7 @@ void Journal::save(const State& s) {
 
 void Journal::begin_attempt(ParticleStore& P, bool may_retake) {
   P.attach(may_retake ? this : nullptr);
-  order_.clear();
+  order_ = {};
   swaps_.clear();
   whole_ = false;
   left_.clear();
@@ -63,7 +63,7 @@ void Journal::end_step(ParticleStore& P) {
 }
 
 void Journal::permuted(std::span<const std::uint32_t> order) {
-  order_.assign(order.begin(), order.end());
+  order_ = order;  // State::order (see order_)
 }
 
 void Journal::restore(State& s) {

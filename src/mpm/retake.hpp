@@ -68,7 +68,9 @@ class Journal final : public LayoutJournal {
   Clock clock_;
   EnergyBudget energy_;
   double internal_next_ = 0.0;
-  std::vector<std::uint32_t> order_;  // the sort stage's re-order (empty: none)
+  // The sort stage's re-order (empty: none), not a copy: the permutation the store was given,
+  // State::order, which the sort alone writes, once per attempt, and which outlives the attempt.
+  std::span<const std::uint32_t> order_;
   // The columns exchanged with a buffer, which holds their values at the exchange, in order.
   std::vector<std::pair<Field, AlignedVector<double>*>> swaps_;
   // Outflow removed the particles flagged here (over the store before the removal; empty:

@@ -25,7 +25,8 @@ void reorder(State& s) {
         s.order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
         [&](std::uint32_t a, std::uint32_t b) { return s.owner_keys[a] < s.owner_keys[b]; });
   }
-  P.permute(s.order, s.scratch.dx);  // a dead buffer here (Scratch)
+  // Through a dead buffer (Scratch); the retake journal keeps a view of s.order, not a copy.
+  P.permute(s.order, s.scratch.dx);
   std::vector<std::uint64_t> sorted(n);
   for (std::size_t k = 0; k < n; ++k) sorted[k] = s.owner_keys[s.order[k]];
   s.owner_keys.swap(sorted);
