@@ -75,7 +75,7 @@ void g2p_particle_lanes(Setup& s, std::vector<double>& out) {
     if constexpr (kInPlace) {
       kernels::g2p_gather<false>(kernels::StoredStencil<Shape>(cache, p), s.g2p, sum, unused);
     } else {
-      st.prepare(cache, p, xi, 0.0, s.owner);
+      st.prepare(cache, p, xi, 1.0, 0.0, s.owner);
       kernels::g2p_gather<false>(st, s.g2p, sum, unused);
     }
     std::memcpy(&out[6 * p], sum, 6 * sizeof(double));
@@ -94,7 +94,7 @@ void gradient_particle_lanes(Setup& s, std::vector<double>& out) {
     if constexpr (kInPlace) {
       kernels::velocity_gradient_gather(kernels::StoredStencil<Shape>(cache, p), s.grad, L);
     } else {
-      st.prepare(cache, p, xi, 0.0, s.owner);
+      st.prepare(cache, p, xi, 1.0, 0.0, s.owner);
       kernels::velocity_gradient_gather(st, s.grad, L);
     }
     std::memcpy(&out[12 * p], L, sizeof L);

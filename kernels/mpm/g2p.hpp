@@ -68,8 +68,8 @@ void gather_velocity(const G2PParticles& in, std::size_t p, const SparseGrid::Co
     return;
   }
   Stencil<Shape> st;
-  const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-  st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+  const double x[3] = {in.x[p], in.y[p], in.z[p]};
+  st.prepare(in.stencil, p, x, in.inv_h, 0.5 * in.size0[p] * in.inv_h, owner);
   gather_velocity_at(st, neighbours, vx, vy, vz, wx[p], wy[p], wz[p]);
 }
 
@@ -194,8 +194,8 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
     if (stored) {  // read in place (StoredStencil)
       gather(StoredStencil<Shape>(in.stencil, p), s, t);
     } else {
-      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+      const double x[3] = {in.x[p], in.y[p], in.z[p]};
+      st.prepare(in.stencil, p, x, in.inv_h, 0.5 * in.size0[p] * in.inv_h, owner);
       gather(st, s, t);
     }
     update(p, s, t);

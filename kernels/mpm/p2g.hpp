@@ -239,11 +239,12 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
       p2g_lanes<kForce, kAxisymmetric>(StoredStencil<Shape>(in.stencil, p), pt, s);
       continue;
     }
-    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-    st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+    const double x[3] = {in.x[p], in.y[p], in.z[p]};
+    st.prepare(in.stencil, p, x, in.inv_h, 0.5 * in.size0[p] * in.inv_h, owner);
     if constexpr (kLanes) {
       p2g_lanes<kForce, kAxisymmetric>(st, pt, s);
     } else {
+      const double xi[3] = {x[0] * in.inv_h, x[1] * in.inv_h, x[2] * in.inv_h};
       p2g_affine<Shape, kForce>(in, p, st, xi, pt, s);
     }
   }
@@ -253,7 +254,12 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
 // Mass gradient of one body's field, grad m_I = sum_p m_p grad N_I(x_p), whose direction gives
 // the contact normal (Bardenhagen et al. 2000, Sec. 3; multi-velocity-field contact). Scatters
 // only into body copies (blocks >= first_copy: nodes where several bodies meet), for particles
-// of one owner block that share one neighbour list; same colouring as p2g_block.
+// of one owner block that share one neighbour list; same colouring as p2g_block. The stencils
+// are the step's rows (in.stencil: stored, or recomputed for uGIMP), those of p2g_block. Before,
+// they were computed here afresh from x / h rounded, then 1/2 and the first node subtracted (GCC
+// fused neither, at -O1 nor in Release: the same bits as that form), where the rows fuse
+// x / h - 1/2 and the remainder: a first node could differ from the key's across a block face
+// (its zero-weight node then written outside the scratch window) and the weights by round-off.
 template <class Shape>
 void mass_gradient_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
                          const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
@@ -266,8 +272,8 @@ void mass_gradient_block(const P2GParticles& in, std::span<const std::uint32_t> 
   std::fill(std::begin(s.fz), std::end(s.fz), 0.0);
   Stencil<Shape> st;
   for (const std::uint32_t p : particles) {
-    const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-    st.compute(xi, 0.5 * in.size0[p] * in.inv_h, owner);
+    const double x[3] = {in.x[p], in.y[p], in.z[p]};
+    st.prepare(in.stencil, p, x, in.inv_h, 0.5 * in.size0[p] * in.inv_h, owner);
     const double k = in.mass[p] * in.inv_h;
     for (int a = 0; a < W; ++a) {
       for (int b = 0; b < W; ++b) {

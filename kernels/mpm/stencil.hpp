@@ -49,18 +49,18 @@ inline constexpr bool kRecomputedRows = std::is_same_v<Shape, GimpShape>;
 
 // One uGIMP row exactly as store_stencils<GimpShape> stores it, for one particle at a time:
 // weights and derivatives of axis d at w[(d W + a) stride] and w[((3 + d) W + a) stride].
-// store_stencils' loop is compiled with contraction (GCC's -ffp-contract=fast): xi = x / h enters
-// both subtractions of GimpShape::weights fused, floor(fma(x, 1/h, -1/2)) and fma(x, 1/h, -fl),
-// and d^2 + lp^2 as fma(d, d, lp^2) (found by comparing 2^20 random particles against the stored
-// rows with every candidate; tests/unit/mpm/stencil_cache_test.cpp keeps the check). Here those
-// fusions are written out (std::fma) and no other product meets a sum, so the bits do not depend on
-// the compiler's contraction. Of the four pieces of GimpShape::node, the one that applies is
-// selected before dividing (2 divisions per node instead of 4): the selected quotient has the same
-// operands, so the same bits.
+// The Release build contracted store_stencils' loop this way before the fusions were written out
+// (found by comparing 2^20 random particles against the stored rows with every candidate): the
+// first node (kernels::first_node), the remainder fma(x, 1/h, -fl) and d^2 + lp^2 as
+// fma(d, d, lp^2), now explicit std::fma here and in GimpShape, and no other product meets a sum,
+// so the bits do not depend on the compiler's contraction (tests/unit/mpm/stencil_cache_test.cpp
+// keeps the check). Of the four pieces of GimpShape::node, the one that applies is selected before
+// dividing (2 divisions per node instead of 4): the selected quotient has the same operands, so the
+// same bits.
 namespace gimp_rows {
 
 inline int axis(double x, double inv_h, double lp, double* w, double* dw, int stride) {
-  const double fl = std::floor(std::fma(x, inv_h, -0.5));
+  const double fl = first_node(x, inv_h, GimpShape::kShift);
   const double f = std::fma(x, inv_h, -fl);
   const double lp2 = lp * lp, two = 2.0 * lp, four = 4.0 * lp;
   for (int a = 0; a < 3; ++a) {
@@ -101,89 +101,119 @@ inline std::uint8_t row(const StencilCache& c, std::size_t p, double* row, int s
 // the k-th particle at rows[j kStencilBatch + k].
 inline constexpr int kStencilBatch = 8;
 
+#if defined(SHATTER_AVX512_ROWS)
+// gimp_rows in eight lanes, one particle per lane, each lane doing gimp_rows::axis's operations
+// in its order (the same bits). Unaligned loads and stores throughout: GCC 12's AddressSanitizer
+// places stack arrays at 32-byte boundaries whatever alignas asks (lanes.hpp, align64). The
+// masked forms (all lanes) of min, roundscale and the conversions: GCC 12's unmasked ones start
+// from _mm512_undefined_pd, which -Wmaybe-uninitialized reports.
+namespace gimp_lanes {
+
+// kernels::first_node in each lane: the same FMA, then the same floor.
+inline __m512d first_node(__m512d x, __m512d inv_h, double shift) {
+  return _mm512_maskz_roundscale_pd(0xFF, _mm512_fmadd_pd(x, inv_h, _mm512_set1_pd(-shift)),
+                                    _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+}
+
+// Positions (xv[3]) and sizes of particles idx[0..count); the tail lanes repeat the last one.
+inline void load(const StencilCache& c, const std::uint32_t* idx, int count, __m512d (&xv)[3],
+                 __m512d& sv) {
+  bool consecutive = count == 8;  // the usual case: the store is sorted by block
+  for (int k = 1; k < 8 && consecutive; ++k) consecutive = idx[k] == idx[0] + k;
+  if (consecutive) {
+    for (int d = 0; d < 3; ++d) xv[d] = _mm512_loadu_pd(c.x[d] + idx[0]);
+    sv = _mm512_loadu_pd(c.size0 + idx[0]);
+    return;
+  }
+  alignas(64) double xs[3][8], ss[8];
+  for (int k = 0; k < 8; ++k) {
+    const std::uint32_t p = idx[k < count ? k : count - 1];
+    for (int d = 0; d < 3; ++d) xs[d][k] = c.x[d][p];
+    ss[k] = c.size0[p];
+  }
+  for (int d = 0; d < 3; ++d) xv[d] = _mm512_loadu_pd(xs[d]);
+  sv = _mm512_loadu_pd(ss);
+}
+
+// What gimp_rows::axis derives from lp alone: lp = min(size0 / (2 h), 1/2) (std::min's
+// operand order: min(half, v) returns v unless half < v), lp^2, 2 lp, 4 lp, 1 + lp, 1 - lp.
+struct HalfWidth {
+  __m512d lp, lp2, two, four, opl, oml;
+  HalfWidth(__m512d size0, __m512d inv_h) {
+    const __m512d half = _mm512_set1_pd(0.5), one = _mm512_set1_pd(1.0);
+    lp = _mm512_maskz_min_pd(0xFF, half, _mm512_mul_pd(_mm512_mul_pd(half, size0), inv_h));
+    lp2 = _mm512_mul_pd(lp, lp);
+    two = _mm512_mul_pd(_mm512_set1_pd(2.0), lp);
+    four = _mm512_mul_pd(_mm512_set1_pd(4.0), lp);
+    opl = _mm512_add_pd(one, lp);
+    oml = _mm512_sub_pd(one, lp);
+  }
+};
+
+// gimp_rows::axis for eight particles: weights to w[a * 8], derivatives (kGrad) to dw[a * 8];
+// returns the first nodes' offsets in the owner block (2 bits per lane).
+template <bool kGrad>
+__m256i axis(__m512d x, __m512d inv_h, const HalfWidth& h, double* w, double* dw) {
+  const __m512d one = _mm512_set1_pd(1.0), zero = _mm512_setzero_pd();
+  const __m512d sign = _mm512_set1_pd(-0.0);  // -v as xor(v, sign): C's negation, zeros too
+  const __m512d fl = first_node(x, inv_h, GimpShape::kShift);
+  const __m512d f = _mm512_fmadd_pd(x, inv_h, _mm512_xor_pd(fl, sign));
+  for (int a = 0; a < 3; ++a) {
+    const __m512d dd = _mm512_sub_pd(f, _mm512_set1_pd(static_cast<double>(a)));
+    const __m512d ad = _mm512_abs_pd(dd);
+    const __mmask8 neg = _mm512_cmp_pd_mask(dd, zero, _CMP_LT_OQ);
+    const __m512d ms = _mm512_mask_blend_pd(neg, _mm512_set1_pd(-1.0), one);  // -s
+    const __m512d r = _mm512_sub_pd(h.opl, ad);
+    const __mmask8 in = _mm512_cmp_pd_mask(ad, h.lp, _CMP_LE_OQ);
+    const __mmask8 mid = _mm512_cmp_pd_mask(ad, h.oml, _CMP_LE_OQ);
+    const __mmask8 out = _mm512_cmp_pd_mask(ad, h.opl, _CMP_LE_OQ);
+    const __m512d qw =
+        _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(r, r), _mm512_fmadd_pd(dd, dd, h.lp2)),
+                      _mm512_mask_blend_pd(in, h.four, h.two));
+    __m512d wv = _mm512_maskz_mov_pd(out, qw);
+    wv = _mm512_mask_blend_pd(mid, wv, _mm512_sub_pd(one, ad));
+    wv = _mm512_mask_blend_pd(in, wv, _mm512_sub_pd(one, qw));
+    _mm512_storeu_pd(w + a * 8, wv);
+    if constexpr (!kGrad) continue;
+    const __m512d qd =
+        _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(ms, r), _mm512_xor_pd(dd, sign)),
+                      _mm512_mask_blend_pd(in, h.two, h.lp));
+    __m512d dv = _mm512_maskz_mov_pd(out, qd);
+    dv = _mm512_mask_blend_pd(mid, dv, ms);
+    dv = _mm512_mask_blend_pd(in, dv, qd);
+    _mm512_storeu_pd(dw + a * 8, dv);
+  }
+  return _mm256_and_si256(_mm512_maskz_cvttpd_epi32(0xFF, fl), _mm256_set1_epi32(3));
+}
+
+}  // namespace gimp_lanes
+#endif
+
 // The rows of particles idx[0..count) (count <= kStencilBatch). With AVX-512, eight particles
-// per vector, each lane doing gimp_rows::axis's operations in its order (the same bits);
-// otherwise particle by particle.
+// per vector (gimp_lanes); otherwise particle by particle (gimp_rows).
 // kGrad false: the weights alone (G2P, the remap's scatter), the derivatives left as they were.
 template <bool kGrad = true>
 inline void recomputed_rows(const StencilCache& c, const std::uint32_t* idx, int count,
                             double* rows, std::uint8_t* off) {
 #if defined(SHATTER_AVX512_ROWS)
   static_assert(kStencilBatch == 8);
-  alignas(64) double xs[3][8], ss[8];
   __m512d xv[3], sv;
-  // Unaligned loads and stores throughout: GCC 12's AddressSanitizer places stack arrays at
-  // 32-byte boundaries whatever alignas asks (lanes.hpp, align64).
-  bool consecutive = count == 8;  // the usual case: the store is sorted by block
-  for (int k = 1; k < 8 && consecutive; ++k) consecutive = idx[k] == idx[0] + k;
-  if (consecutive) {
-    for (int d = 0; d < 3; ++d) xv[d] = _mm512_loadu_pd(c.x[d] + idx[0]);
-    sv = _mm512_loadu_pd(c.size0 + idx[0]);
-  } else {
-    for (int k = 0; k < 8; ++k) {
-      const std::uint32_t p = idx[k < count ? k : count - 1];  // the tail repeats the last one
-      for (int d = 0; d < 3; ++d) xs[d][k] = c.x[d][p];
-      ss[k] = c.size0[p];
-    }
-    for (int d = 0; d < 3; ++d) xv[d] = _mm512_loadu_pd(xs[d]);
-    sv = _mm512_loadu_pd(ss);
-  }
-  // The masked forms (all lanes) of min, roundscale and the conversions: GCC 12's unmasked ones
-  // start from _mm512_undefined_pd, which -Wmaybe-uninitialized reports. min(half, v) returns v
-  // unless half < v, as std::min(v, half).
-  const __m512d ih = _mm512_set1_pd(c.inv_h), half = _mm512_set1_pd(0.5);
-  const __m512d one = _mm512_set1_pd(1.0), zero = _mm512_setzero_pd();
-  const __m512d sign = _mm512_set1_pd(-0.0);  // -v as xor(v, sign): C's negation, zeros too
-  const __m512d lp = _mm512_maskz_min_pd(0xFF, half, _mm512_mul_pd(_mm512_mul_pd(half, sv), ih));
-  const __m512d lp2 = _mm512_mul_pd(lp, lp);
-  const __m512d two = _mm512_mul_pd(_mm512_set1_pd(2.0), lp);
-  const __m512d four = _mm512_mul_pd(_mm512_set1_pd(4.0), lp);
-  const __m512d opl = _mm512_add_pd(one, lp), oml = _mm512_sub_pd(one, lp);
+  gimp_lanes::load(c, idx, count, xv, sv);
+  const __m512d ih = _mm512_set1_pd(c.inv_h);
+  const gimp_lanes::HalfWidth hw(sv, ih);
   __m256i packed = _mm256_setzero_si256();
   for (int d = 0; d < 3; ++d) {
     double* w = rows + d * 3 * 8;
     double* dw = rows + (9 + d * 3) * 8;
-    if (c.axisymmetric && d == 1) {
+    if (c.axisymmetric && d == 1) {  // degenerate_weights, offset 0
       for (int a = 0; a < 3; ++a) {
-        _mm512_storeu_pd(w + a * 8, a == 0 ? one : zero);
-        _mm512_storeu_pd(dw + a * 8, zero);
+        _mm512_storeu_pd(w + a * 8, _mm512_set1_pd(a == 0 ? 1.0 : 0.0));
+        _mm512_storeu_pd(dw + a * 8, _mm512_setzero_pd());
       }
       continue;
     }
-    const __m512d x = xv[d];
-    const __m512d fl =
-        _mm512_maskz_roundscale_pd(0xFF, _mm512_fmadd_pd(x, ih, _mm512_set1_pd(-0.5)),
-                                   _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-    const __m512d f = _mm512_fmadd_pd(x, ih, _mm512_xor_pd(fl, sign));
-    const __m256i first = _mm512_maskz_cvttpd_epi32(0xFF, fl);
-    packed = _mm256_or_si256(
-        packed,
-        _mm256_sllv_epi32(_mm256_and_si256(first, _mm256_set1_epi32(3)), _mm256_set1_epi32(2 * d)));
-    for (int a = 0; a < 3; ++a) {
-      const __m512d dd = _mm512_sub_pd(f, _mm512_set1_pd(static_cast<double>(a)));
-      const __m512d ad = _mm512_abs_pd(dd);
-      const __mmask8 neg = _mm512_cmp_pd_mask(dd, zero, _CMP_LT_OQ);
-      const __m512d ms = _mm512_mask_blend_pd(neg, _mm512_set1_pd(-1.0), one);  // -s
-      const __m512d r = _mm512_sub_pd(opl, ad);
-      const __mmask8 in = _mm512_cmp_pd_mask(ad, lp, _CMP_LE_OQ);
-      const __mmask8 mid = _mm512_cmp_pd_mask(ad, oml, _CMP_LE_OQ);
-      const __mmask8 out = _mm512_cmp_pd_mask(ad, opl, _CMP_LE_OQ);
-      const __m512d qw =
-          _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(r, r), _mm512_fmadd_pd(dd, dd, lp2)),
-                        _mm512_mask_blend_pd(in, four, two));
-      __m512d wv = _mm512_maskz_mov_pd(out, qw);
-      wv = _mm512_mask_blend_pd(mid, wv, _mm512_sub_pd(one, ad));
-      wv = _mm512_mask_blend_pd(in, wv, _mm512_sub_pd(one, qw));
-      _mm512_storeu_pd(w + a * 8, wv);
-      if constexpr (!kGrad) continue;
-      const __m512d qd =
-          _mm512_div_pd(_mm512_mask_blend_pd(in, _mm512_mul_pd(ms, r), _mm512_xor_pd(dd, sign)),
-                        _mm512_mask_blend_pd(in, two, lp));
-      __m512d dv = _mm512_maskz_mov_pd(out, qd);
-      dv = _mm512_mask_blend_pd(mid, dv, ms);
-      dv = _mm512_mask_blend_pd(in, dv, qd);
-      _mm512_storeu_pd(dw + a * 8, dv);
-    }
+    const __m256i first = gimp_lanes::axis<kGrad>(xv[d], ih, hw, w, dw);
+    packed = _mm256_or_si256(packed, _mm256_sllv_epi32(first, _mm256_set1_epi32(2 * d)));
   }
   alignas(16) std::uint8_t o[16];
   _mm_storeu_si128(reinterpret_cast<__m128i*>(o), _mm256_maskz_cvtepi32_epi8(0xFF, packed));
@@ -201,20 +231,15 @@ struct Stencil {
   int off[3];             // first stencil node relative to the owner block's first node (0..3)
   std::int64_t first[3];  // first stencil node, global index per axis
 
-  // First node of the stencil (global node index per axis) for a particle at xi (cell units).
-  static std::int64_t first_node(double xi) {
-    double w_[W], dw_[W];
-    return Shape::weights(xi, 0.25, w_, dw_);
-  }
-
-  // half_size: uGIMP particle half-width in cell units, clamped to 1/2 so that the support stays
-  // within three nodes.
-  void compute(const double xi[3], double half_size, const SparseGrid::Coord& owner) {
+  // x: the particle's position (metres, or cell units with inv_h = 1). half_size: uGIMP
+  // particle half-width in cell units, clamped to 1/2 so that the support stays within three
+  // nodes.
+  void compute(const double x[3], double inv_h, double half_size, const SparseGrid::Coord& owner) {
     const double lp = std::min(half_size, 0.5);
     const int base[3] = {owner.x * SparseGrid::kBlock, owner.y * SparseGrid::kBlock,
                          owner.z * SparseGrid::kBlock};
     for (int d = 0; d < 3; ++d) {
-      first[d] = Shape::weights(xi[d], lp, w[d], dw[d]);
+      first[d] = Shape::weights(x[d], inv_h, lp, w[d], dw[d]);
       off[d] = static_cast<int>(first[d] - base[d]);
     }
   }
@@ -234,8 +259,8 @@ struct Stencil {
   }
 
   // The stencil of particle p: computed, computed and stored, or loaded (StencilCache::Mode).
-  void prepare(const StencilCache& cache, std::size_t p, const double xi[3], double half_size,
-               const SparseGrid::Coord& owner) {
+  void prepare(const StencilCache& cache, std::size_t p, const double x[3], double inv_h,
+               double half_size, const SparseGrid::Coord& owner) {
     if (cache.mode == StencilCache::kLoad) {
       from_row(cache.w + p * kRow, cache.off[p], owner);
       return;
@@ -248,7 +273,7 @@ struct Stencil {
         return;
       }
     }
-    compute(xi, half_size, owner);
+    compute(x, inv_h, half_size, owner);
     if (cache.mode == StencilCache::kStore) {
       double* row = cache.w + p * kRow;
       std::copy(&w[0][0], &w[0][0] + 3 * W, row);
@@ -370,7 +395,7 @@ void store_stencils(const double* const (&x)[3], const double* size0, double inv
     for (int d = 0; d < 3; ++d) {
       double w[W], dw[W];
       const int first = kAxisymmetric && d == 1 ? degenerate_weights<W>(w, dw)
-                                                : Shape::weights(x[d][p] * inv_h, lp, w, dw);
+                                                : Shape::weights(x[d][p], inv_h, lp, w, dw);
       for (int a = 0; a < W; ++a) {
         row[d * W + a] = w[a];
         row[(3 + d) * W + a] = dw[a];

@@ -113,8 +113,8 @@ void velocity_gradient_block(const GradientParticles& in, std::span<const std::u
     if (stored) {  // read in place (StoredStencil)
       velocity_gradient_gather(StoredStencil<Shape>(in.stencil, p), win, L);
     } else {
-      const double xi[3] = {in.x[p] * in.inv_h, in.y[p] * in.inv_h, in.z[p] * in.inv_h};
-      st.prepare(in.stencil, p, xi, 0.5 * in.size0[p] * in.inv_h, owner);
+      const double x[3] = {in.x[p], in.y[p], in.z[p]};
+      st.prepare(in.stencil, p, x, in.inv_h, 0.5 * in.size0[p] * in.inv_h, owner);
       velocity_gradient_gather(st, win, L);
     }
     update(p, L);

@@ -1,6 +1,7 @@
 #include "shatter/core/particles.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <utility>
 
@@ -74,22 +75,36 @@ std::span<const std::int64_t> ParticleStore::col(IField f) const {
 }
 
 void ParticleStore::permute(std::span<const std::uint32_t> order) {
+  permute(order, scratch_);
+}
+
+void ParticleStore::permute(std::span<const std::uint32_t> order, AlignedVector<double>& spare) {
   if (order.size() != size_) throw std::logic_error("permutation size differs from store size");
-  scratch_.resize(size_);
+  spare.resize(size_);
   for (std::size_t i = 0; i < kFieldCount; ++i) {
     if (!present_[i]) continue;
     const double* src = cols_[i].data();
-    for (std::size_t k = 0; k < size_; ++k) scratch_[k] = src[order[k]];
-    cols_[i].swap(scratch_);
+    for (std::size_t k = 0; k < size_; ++k) spare[k] = src[order[k]];
+    cols_[i].swap(spare);
   }
-  iscratch_.resize(size_);
+  // The integer columns through the same spare, as 8-byte patterns (no conversion), then copied
+  // back: one pass more than a spare integer column of their own, 8 B per particle less.
   for (std::size_t i = 0; i < kIFieldCount; ++i) {
     if (!ipresent_[i]) continue;
-    const std::int64_t* src = icols_[i].data();
-    for (std::size_t k = 0; k < size_; ++k) iscratch_[k] = src[order[k]];
-    icols_[i].swap(iscratch_);
+    std::int64_t* col = icols_[i].data();
+    for (std::size_t k = 0; k < size_; ++k) std::memcpy(&spare[k], &col[order[k]], sizeof(double));
+    if (size_ > 0) std::memcpy(col, spare.data(), size_ * sizeof(double));
   }
   if (journal_.to != nullptr) journal_.to->permuted(order);
+}
+
+void ParticleStore::swap_column(Field f, AlignedVector<double>& buffer) {
+  if (!present_[index(f)]) {
+    throw std::logic_error(fmt::format("particle field '{}' is not registered", name_of(f)));
+  }
+  if (buffer.size() != size_) throw std::logic_error("swapped buffer size differs from store size");
+  cols_[index(f)].swap(buffer);
+  if (journal_.to != nullptr) journal_.to->swapped(f, buffer);
 }
 
 void ParticleStore::replace(ParticleStore&& next) {

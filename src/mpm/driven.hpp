@@ -101,8 +101,8 @@ void DrivenBodies::scatter(const ParticleStore& P, const SparseGrid& grid,
     const double* v = velocity(id[p]);
     if (v == nullptr) continue;
     kernels::Stencil<Shape> st;
-    const double xi[3] = {X[0][p] * inv_h, X[1][p] * inv_h, X[2][p] * inv_h};
-    st.prepare(cache, p, xi, 0.5 * size0[p] * inv_h, grid.coord(grid.owner_of(p)));
+    const double x[3] = {X[0][p], X[1][p], X[2][p]};
+    st.prepare(cache, p, x, inv_h, 0.5 * size0[p] * inv_h, grid.coord(grid.owner_of(p)));
     const std::uint32_t* nb = grid.particle_neighbours(p);
     for (int a = 0; a < W; ++a) {
       for (int b = 0; b < W; ++b) {

@@ -27,7 +27,7 @@ void copy_columns(std::size_t columns, std::size_t n, Copy&& copy) {
 }  // namespace
 
 bool Journal::saves(const ParticleStore& P, Field f) const {
-  return P.has(f) && !kStepConstant.has(f) && !kStepLocal.has(f);
+  return P.has(f) && !kStepConstant.has(f) && !kStepLocal.has(f) && !kSwappedOut.has(f);
 }
 
 void Journal::save(const State& s) {
@@ -51,7 +51,8 @@ void Journal::save(const State& s) {
 
 void Journal::begin_attempt(ParticleStore& P, bool may_retake) {
   P.attach(may_retake ? this : nullptr);
-  order_.clear();
+  order_ = {};
+  swaps_.clear();
   whole_ = false;
   left_.clear();
 }
@@ -62,7 +63,7 @@ void Journal::end_step(ParticleStore& P) {
 }
 
 void Journal::permuted(std::span<const std::uint32_t> order) {
-  order_.assign(order.begin(), order.end());
+  order_ = order;  // State::order (see order_)
 }
 
 void Journal::restore(State& s) {
@@ -71,13 +72,17 @@ void Journal::restore(State& s) {
   if (whole_) {
     P = store_;  // taken before migration moved anything: the store at t^n
   } else {
-    // Undo in the reverse order of the step: the outflow removal, then the re-order.
+    // Undo in the reverse order of the step: the outflow removal, the exchanges of the position
+    // buffers (the store has its size before the removal again, the buffers' size), then the
+    // re-order, through the displacement buffer (dead again: Scratch).
     if (!left_.empty()) undo_outflow(P);
+    for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it)
+      P.swap_column(it->first, *it->second);
     if (!order_.empty()) {
       std::vector<std::uint32_t> inverse(order_.size());
       for (std::size_t k = 0; k < order_.size(); ++k)
         inverse[order_[k]] = static_cast<std::uint32_t>(k);
-      P.permute(inverse);
+      P.permute(inverse, s.scratch.dx);
     }
     copy_columns(fields_.size(), P.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
       const double* src = cols_[c].data();
@@ -110,6 +115,10 @@ void Journal::removing(const ParticleStore& P, std::span<const std::uint8_t> lea
       if (leaving[p]) left_irows_[i].push_back(c[p]);
     }
   }
+}
+
+void Journal::swapped(Field f, AlignedVector<double>& previous) {
+  swaps_.emplace_back(f, &previous);
 }
 
 void Journal::replacing(ParticleStore& before) {

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "shatter/core/energy.hpp"
@@ -31,6 +32,10 @@ constexpr FieldSet kStepConstant{Field::mass,    Field::volume0, Field::size0,  
                                  Field::eps_max, Field::n_flaws, Field::weibull_m};
 constexpr FieldSet kStepLocal =
     kStrainIncrement | kSpinIncrement | FieldSet{Field::pressure, Field::soundspeed};
+// Not saved either: the positions. No stage writes them in place; advance_positions exchanges
+// their buffers with the displacement scratch's (ParticleStore::swap_column), which then holds
+// x^n, and the restore exchanges them back (the journal is told of each exchange).
+constexpr FieldSet kSwappedOut = kPosition;
 
 class Journal final : public LayoutJournal {
  public:
@@ -48,6 +53,8 @@ class Journal final : public LayoutJournal {
   void permuted(std::span<const std::uint32_t> order) override;
   void removing(const ParticleStore& P, std::span<const std::uint8_t> leaving) override;
   void replacing(ParticleStore& before) override;
+  // advance_positions' exchange of a position column with its displacement buffer.
+  void swapped(Field f, AlignedVector<double>& previous) override;
 
   StageTiming timing{"retake_copy", 0.0};  // wall time of the saves and restores
 
@@ -61,7 +68,11 @@ class Journal final : public LayoutJournal {
   Clock clock_;
   EnergyBudget energy_;
   double internal_next_ = 0.0;
-  std::vector<std::uint32_t> order_;  // the sort stage's re-order (empty: none)
+  // The sort stage's re-order (empty: none), not a copy: the permutation the store was given,
+  // State::order, which the sort alone writes, once per attempt, and which outlives the attempt.
+  std::span<const std::uint32_t> order_;
+  // The columns exchanged with a buffer, which holds their values at the exchange, in order.
+  std::vector<std::pair<Field, AlignedVector<double>*>> swaps_;
   // Outflow removed the particles flagged here (over the store before the removal; empty:
   // none); their unsaved columns, in store order.
   std::vector<std::uint8_t> left_;

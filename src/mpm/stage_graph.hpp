@@ -29,7 +29,8 @@ enum Resource : std::uint32_t {
   kDisplacement = 1u << 2,  // particle displacement over the step (G2P -> advance)
   kClock = 1u << 3,
   kBudget = 1u << 4,      // energy accounts
-  kMechanical = 1u << 5,  // per-particle mechanical energy at t^n (G2P -> energy)
+  kMechanical = 1u << 5,  // mechanical energy at t^n per particle (G2P -> energy), and the
+                          // transferred kinetic energy's sum (G2P -> finish_step)
 };
 
 struct Access {

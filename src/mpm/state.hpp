@@ -42,14 +42,16 @@ struct StepSums {
 
 // Per-particle scratch columns of one step (sized by the sort stage).
 struct Scratch {
-  AlignedVector<double> dx, dy, dz;  // displacement over the step (G2P -> advance_positions)
+  // Displacement over the step (G2P -> advance_positions); from advance_positions to the next
+  // G2P, the positions at t^n (the buffers exchanged with the position columns), and the sort
+  // stage's spare column for the re-order.
+  AlignedVector<double> dx, dy, dz;
   // Mechanical energy at t^n (G2P -> energy). The potential -m g.x is zero for every particle
   // without gravity (the exact sum of zeros is zero): the column is then left empty (8 B per
   // particle less) and the energy stage's sum over it is empty.
+  // (The kinetic energy of the velocity each particle scattered in this step's P2G, v^{n-1/2},
+  // is summed by G2P itself into StepSums::transferred: no column.)
   AlignedVector<double> kinetic, potential;
-  // 1/2 m_p |v_p|^2 of the velocity each particle scattered in this step's P2G (v^{n-1/2}),
-  // written by G2P; outflow does not drop the departed ones (their momentum is on the nodes).
-  AlignedVector<double> kinetic_transferred;
   // The plain FLIP velocity of the step (G2P -> filter_heat; SolverConfig::filter_heat only).
   AlignedVector<double> flip_vx, flip_vy, flip_vz;
   AlignedVector<double> bx, by, bz;    // body force per unit mass, when the scene has one

@@ -49,6 +49,9 @@ class LayoutJournal {
   virtual void removing(const ParticleStore& store, std::span<const std::uint8_t> flags) = 0;
   // Before replace(): the store as it is; the journal may move from it.
   virtual void replacing(ParticleStore& before) = 0;
+  // After swap_column(f, buffer): `previous`, the caller's buffer, now holds the column's values
+  // from before the swap.
+  virtual void swapped(Field f, AlignedVector<double>& previous) = 0;
 };
 
 class ParticleStore {
@@ -75,8 +78,17 @@ class ParticleStore {
   std::span<const std::int64_t> col(IField f) const;
 
   // Reorders every registered column: new particle k is old particle order[k]. The permutation
-  // must map each group range onto itself (the sort stage sorts within groups).
+  // must map each group range onto itself (the sort stage sorts within groups). Each column is
+  // gathered into a spare column, whose buffer it then takes: the store's own, or `spare` (any
+  // content, resized to the store; it ends holding one of the old buffers), so that a caller
+  // with a dead buffer of its own needs no second one here.
   void permute(std::span<const std::uint32_t> order);
+  void permute(std::span<const std::uint32_t> order, AlignedVector<double>& spare);
+
+  // Exchanges column f's buffer with `buffer` (of the store's size), no copy: the column then
+  // holds what `buffer` held, and `buffer` the column's values (a stage that writes a whole
+  // new column into a buffer of its own, and keeps the old values there).
+  void swap_column(Field f, AlignedVector<double>& buffer);
 
   // Removes the particles whose flag is non-zero, keeping the order of the rest and the
   // grouping (groups shrink). Returns how many were removed.
@@ -107,8 +119,7 @@ class ParticleStore {
   std::array<bool, kFieldCount> present_{};
   std::array<bool, kIFieldCount> ipresent_{};
   std::vector<Group> groups_;
-  AlignedVector<double> scratch_;
-  AlignedVector<std::int64_t> iscratch_;
+  AlignedVector<double> scratch_;  // permute's spare column (the integer ones go through it too)
   Attached journal_;
 };
 

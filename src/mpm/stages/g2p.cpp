@@ -1,6 +1,8 @@
 // App. A.2 step 5: particle velocities and displacements from the grid (leapfrog), and each
 // particle's mechanical energy at t^n for the energy stage.
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include "mpm/loops.hpp"
 #include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
@@ -41,15 +43,26 @@ void g2p(State& s) {
     const double vn[3] = {v0[0] + w * (in.vx[p] - v0[0]), v0[1] + w * (in.vy[p] - v0[1]),
                           v0[2] + w * (in.vz[p] - v0[2])};
     sc.kinetic[p] = 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
-    sc.kinetic_transferred[p] = 0.5 * mass[p] * (v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]);
     if (potential == nullptr) return;  // no gravity: zero (Scratch)
     potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
   };
+  // 1/2 m_p |v_p|^2 of the velocity each particle scattered in this step's P2G (v^{n-1/2}),
+  // summed here, exactly (the same bits in any order and split), where it was kept per particle
+  // (8 B) for the energy stage to sum. Outflow removes none of it (its momentum is on the nodes).
+  tbb::enumerable_thread_specific<parallel::ExactSum> transferred;
   for_each_run<kernels::G2PWindow>(
       s.grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
                   const std::uint32_t* nb, kernels::G2PWindow& win) {
-        kernels::g2p_block<Shape>(in, run, owner, nb, s.grid.nodes(), win, energies);
+        parallel::ExactSum sum;
+        kernels::g2p_block<Shape>(
+            in, run, owner, nb, s.grid.nodes(), win, [&](std::size_t p, const double(&v0)[3]) {
+              energies(p, v0);
+              sum.add(0.5 * mass[p] * (v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]));
+            });
+        transferred.local().add(sum);
       });
+  s.sums.transferred = parallel::ExactSum{};
+  for (const parallel::ExactSum& t : transferred) s.sums.transferred.add(t);
   if (s.driven) {
     s.driven->set_particles(P, sc.dx.data(), sc.dy.data(), sc.dz.data(), sc.kinetic.data(),
                             s.dt_step);

@@ -10,16 +10,24 @@
 namespace shatter::mpm {
 namespace {
 
+// x^n + dx is written over the displacement, whose buffer then becomes the position column, and
+// the position column's buffer the displacement scratch: it holds x^n until the next step's G2P
+// writes it, and the step retake takes the positions at t^n back from there (retake.hpp) instead
+// of from a copy made before each step (24 B per particle). The same sum, so the same bits.
 void advance_positions(State& s) {
   ParticleStore& P = s.particles;
-  double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
-  const double* D[3] = {s.scratch.dx.data(), s.scratch.dy.data(), s.scratch.dz.data()};
+  Scratch& sc = s.scratch;
+  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  double* D[3] = {sc.dx.data(), sc.dy.data(), sc.dz.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (int d = 0; d < 3; ++d) {
-                        for (std::size_t p = r.begin(); p < r.end(); ++p) X[d][p] += D[d][p];
+                        for (std::size_t p = r.begin(); p < r.end(); ++p) D[d][p] += X[d][p];
                       }
                     });
+  P.swap_column(Field::x, sc.dx);
+  P.swap_column(Field::y, sc.dy);
+  P.swap_column(Field::z, sc.dz);
 }
 
 // The departed particles' rows of the per-particle mechanical energies are dropped so that the
@@ -72,7 +80,9 @@ void outflow(State& s) {
 }  // namespace
 
 Stage advance_positions_stage(State& s) {
-  return {"advance_positions", {{}, kDisplacement}, {kPosition, 0}, [&s] { advance_positions(s); }};
+  return {"advance_positions", {{}, kDisplacement}, {kPosition, kDisplacement}, [&s] {
+            advance_positions(s);
+          }};
 }
 
 Stage outflow_stage(State& s) {

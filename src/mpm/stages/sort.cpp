@@ -25,7 +25,8 @@ void reorder(State& s) {
         s.order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
         [&](std::uint32_t a, std::uint32_t b) { return s.owner_keys[a] < s.owner_keys[b]; });
   }
-  P.permute(s.order);
+  // Through a dead buffer (Scratch); the retake journal keeps a view of s.order, not a copy.
+  P.permute(s.order, s.scratch.dx);
   std::vector<std::uint64_t> sorted(n);
   for (std::size_t k = 0; k < n; ++k) sorted[k] = s.owner_keys[s.order[k]];
   s.owner_keys.swap(sorted);
@@ -37,7 +38,7 @@ void sort(State& s) {
   const std::size_t n = P.size();
   s.owner_keys.resize(n);
   Scratch& sc = s.scratch;
-  for (auto* v : {&sc.dx, &sc.dy, &sc.dz, &sc.kinetic, &sc.kinetic_transferred}) v->resize(n);
+  for (auto* v : {&sc.dx, &sc.dy, &sc.dz, &sc.kinetic}) v->resize(n);
   sc.potential.resize(s.uniform_gravity() ? n : 0);  // none without gravity (Scratch)
   // uGIMP's rows are recomputed at every read (State::stencil_rows): none stored.
   constexpr bool stored = !kernels::kRecomputedRows<Shape>;
@@ -89,8 +90,6 @@ void compute_keys_in(State& s) {
   const std::size_t n = P.size();
   s.owner_keys.resize(n);
   const double ih = s.inv_h();
-  // First stencil node: floor(xi) for 2-wide stencils, floor(xi - 1/2) for 3-wide ones.
-  const double shift = Shape::kWidth == 3 ? 0.5 : 0.0;
   const double limit = static_cast<double>(SparseGrid::kMaxBlockCoord * SparseGrid::kBlock);
   const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kParticleGrain),
@@ -99,18 +98,13 @@ void compute_keys_in(State& s) {
                         std::int64_t b[3] = {0, 0, 0};
                         for (int d = 0; d < 3; ++d) {
                           if (kAxisymmetric && d == 1) continue;
-                          // uGIMP rows are recomputed with this product fused (gimp_rows::axis,
-                          // kernels/mpm/stencil.hpp): the key takes its first node the same
-                          // way, so a row's first node lies in its owner block whatever the
-                          // compiler contracts (GCC fuses nothing at -O1; Release fused it
-                          // here before, so the same bits there).
-                          const double xi = kernels::kRecomputedRows<Shape>
-                                                ? std::fma(X[d][p], ih, -shift)
-                                                : X[d][p] * ih - shift;
-                          // Out-of-range (or NaN) positions are caught by check_finite;
-                          // clamp so the key stays defined meanwhile.
-                          const double c = std::isfinite(xi) ? std::clamp(xi, -limit, limit) : 0.0;
-                          b[d] = static_cast<std::int64_t>(std::floor(c)) >> SparseGrid::kBlockBits;
+                          // The rows' first node (kernels::first_node, the one expression),
+                          // so that every row lies in its owner block. Out-of-range (or NaN)
+                          // positions are caught by check_finite; clamp so the key stays
+                          // defined meanwhile (limit is whole: the same block as before).
+                          const double f = kernels::first_node(X[d][p], ih, Shape::kShift);
+                          const double c = std::isfinite(f) ? std::clamp(f, -limit, limit) : 0.0;
+                          b[d] = static_cast<std::int64_t>(c) >> SparseGrid::kBlockBits;
                         }
                         s.owner_keys[p] = SparseGrid::key(b[0], b[1], b[2]);
                       }

@@ -19,7 +19,7 @@ void check_consistency(double half_size) {
   for (int k = 0; k < 2000; ++k) {
     const double xi = u(rng);
     double w[Shape::kWidth], dw[Shape::kWidth];
-    const int base = Shape::weights(xi, half_size, w, dw);
+    const int base = Shape::weights(xi, 1.0, half_size, w, dw);
     double sw = 0, sdw = 0, sx = 0, sxdw = 0;
     for (int a = 0; a < Shape::kWidth; ++a) {
       EXPECT_GE(w[a], -kRoundOff);
@@ -55,8 +55,8 @@ TEST(ShapeFunctions, GimpIsContinuousAcrossCellFaces) {
   // A step of 1e-9 cell changes a C0 function by O(1e-9).
   for (const double x0 : {0.0, 0.25, 0.5, 0.75, 1.0, 1.25}) {
     double wa[3], da[3], wb[3], db[3];
-    const int ba = GimpShape::weights(x0 - 1e-9, 0.25, wa, da);
-    const int bb = GimpShape::weights(x0 + 1e-9, 0.25, wb, db);
+    const int ba = GimpShape::weights(x0 - 1e-9, 1.0, 0.25, wa, da);
+    const int bb = GimpShape::weights(x0 + 1e-9, 1.0, 0.25, wb, db);
     for (int node = -2; node <= 4; ++node) {
       const double fa = (node - ba >= 0 && node - ba < 3) ? wa[node - ba] : 0.0;
       const double fb = (node - bb >= 0 && node - bb < 3) ? wb[node - bb] : 0.0;

@@ -55,7 +55,8 @@ struct Scene {
       std::int64_t b[3];
       const double xs[3] = {x.back(), y.back(), z.back()};
       for (int d = 0; d < 3; ++d) {
-        b[d] = Stencil<Shape>::first_node(xs[d] * inv_h) >> SparseGrid::kBlockBits;
+        b[d] = static_cast<std::int64_t>(first_node(xs[d], inv_h, Shape::kShift)) >>
+               SparseGrid::kBlockBits;
       }
       keys.push_back(SparseGrid::key(b[0], b[1], b[2]));
     }
@@ -108,9 +109,9 @@ void check_g2p_gather() {
     const std::uint32_t* nb = sc.grid.neighbours(b);
     win.load(nb, fields, true);
     for (const std::uint32_t p : sc.grid.owned(b)) {
-      const double xi[3] = {sc.x[p] * sc.inv_h, sc.y[p] * sc.inv_h, sc.z[p] * sc.inv_h};
+      const double x[3] = {sc.x[p], sc.y[p], sc.z[p]};
       Stencil<Shape> st;
-      st.compute(xi, 0.5 * sc.size0[p] * sc.inv_h, sc.grid.coord(b));
+      st.compute(x, sc.inv_h, 0.5 * sc.size0[p] * sc.inv_h, sc.grid.coord(b));
       double ref[9] = {};
       for (int a = 0; a < Shape::kWidth; ++a) {
         for (int bb = 0; bb < Shape::kWidth; ++bb) {
@@ -166,9 +167,9 @@ void check_velocity_gradient_gather() {
     const std::uint32_t* nb = sc.grid.neighbours(b);
     win.load(nb, fields, 3);
     for (const std::uint32_t p : sc.grid.owned(b)) {
-      const double xi[3] = {sc.x[p] * sc.inv_h, sc.y[p] * sc.inv_h, sc.z[p] * sc.inv_h};
+      const double x[3] = {sc.x[p], sc.y[p], sc.z[p]};
       Stencil<Shape> st;
-      st.compute(xi, 0.5 * sc.size0[p] * sc.inv_h, sc.grid.coord(b));
+      st.compute(x, sc.inv_h, 0.5 * sc.size0[p] * sc.inv_h, sc.grid.coord(b));
       double ref[3][4] = {};  // lane 3: the interpolated velocity sum N_I v_rI (r-z hoop rate)
       for (int a = 0; a < Shape::kWidth; ++a) {
         for (int bb = 0; bb < Shape::kWidth; ++bb) {

@@ -3,12 +3,15 @@
 // of the gathers (kernels::NodeWindow) against the direct per-node lookup (Stencil::node).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <vector>
 
+#include "mpm/p2g.hpp"
 #include "mpm/stencil.hpp"
 #include "shatter/grid/sparse_grid.hpp"
 
@@ -33,7 +36,8 @@ struct Cloud {
     }
   }
   std::int64_t owner_axis(double v) const {
-    return static_cast<std::int64_t>(std::floor(v * inv_h - 0.5)) >> SparseGrid::kBlockBits;
+    return static_cast<std::int64_t>(first_node(v, inv_h, GimpShape::kShift)) >>
+           SparseGrid::kBlockBits;
   }
 };
 
@@ -48,21 +52,22 @@ void check_cache_matches_compute() {
                         {w.data(), off.data(), StencilCache::kStore});
   const StencilCache load{w.data(), off.data(), StencilCache::kLoad};
   for (std::size_t p = 0; p < n; ++p) {
-    const double xi[3] = {c.x[p] * c.inv_h, c.y[p] * c.inv_h, c.z[p] * c.inv_h};
-    // The owner block as the sort stage derives it for 3-wide stencils (floor(xi - 1/2) / 4);
-    // for the 2-wide linear stencil it is floor(xi) / 4.
-    const double shift = Shape::kWidth == 3 ? 0.5 : 0.0;
-    const SparseGrid::Coord owner{
-        static_cast<std::int32_t>(static_cast<std::int64_t>(std::floor(xi[0] - shift)) >> 2),
-        static_cast<std::int32_t>(static_cast<std::int64_t>(std::floor(xi[1] - shift)) >> 2),
-        static_cast<std::int32_t>(static_cast<std::int64_t>(std::floor(xi[2] - shift)) >> 2)};
-    Stencil<Shape> fresh, cached;
-    fresh.compute(xi, 0.5 * c.size0[p] * c.inv_h, owner);
-    cached.prepare(load, p, xi, 0.0, owner);
+    const double x[3] = {c.x[p], c.y[p], c.z[p]};
+    // The owner block as the sort stage derives it (kernels::first_node / 4).
+    std::int32_t ob[3];
     for (int d = 0; d < 3; ++d) {
-      // Node indices exactly; weights to round-off: the two evaluations may differ only in
-      // where the compiler contracts xi = x / h into the floor's remainder (an FMA), i.e. by a
-      // few ulps of xi (~1e-16 x |xi| <= ~20 cells here); 1e-13 bounds that with margin.
+      ob[d] = static_cast<std::int32_t>(
+          static_cast<std::int64_t>(first_node(x[d], c.inv_h, Shape::kShift)) >> 2);
+    }
+    const SparseGrid::Coord owner{ob[0], ob[1], ob[2]};
+    Stencil<Shape> fresh, cached;
+    fresh.compute(x, c.inv_h, 0.5 * c.size0[p] * c.inv_h, owner);
+    cached.prepare(load, p, x, c.inv_h, 0.0, owner);
+    for (int d = 0; d < 3; ++d) {
+      // Node indices exactly; weights to round-off: the first node and the remainder are
+      // fused explicitly (kernels::first_node), but the two inlined copies of a shape's own
+      // polynomial may still be contracted differently (the B-spline's 3/4 - b^2), by a few
+      // ulps; 1e-13 bounds that with margin.
       ASSERT_EQ(cached.first[d], fresh.first[d]) << "particle " << p << " axis " << d;
       ASSERT_EQ(cached.off[d], fresh.off[d]);
       ASSERT_GE(cached.off[d], 0);
@@ -90,18 +95,8 @@ TEST(StencilCache, StoredStencilsMatchComputedLinear) {
 // (Stencil::prepare) and the stored rows of store_stencils must hold the same bits, on 3-D and
 // r-z rows. The cloud adds the cases where a piece of GimpShape::node changes: distances of
 // exactly lp, 1 - lp and 1 + lp, particles on a node (d = +-0), x = -0, sizes clamped to half a
-// cell and points at negative coordinates. Bitwise where the build contracts into FMAs as the
-// engine's Release build (store_stencils' x / h then has fused remainders); otherwise, where the
-// old rows were unfused, within round-off.
-
-// Whether this file is compiled with contraction into FMAs, as the engine's store_stencils is in
-// the Release build (GCC at -O2 and above where the CPU has FMA; not at -O1, the sanitizer tree):
-// (1 + 2^-30)(1 - 2^-30) - 1 is 0 with the product rounded, -2^-60 fused.
-bool contracts() {
-  volatile double va = 1.0 + 0x1p-30, vb = 1.0 - 0x1p-30, vc = -1.0;
-  const double a = va, b = vb, c = vc;
-  return a * b + c != 0.0;
-}
+// cell and points at negative coordinates. Bitwise in every build: the fusions are explicit
+// (std::fma) in GimpShape and gimp_rows alike, and no other product meets a sum.
 
 void check_recomputed_rows(bool axisymmetric) {
   Cloud c(1 << 15);
@@ -140,10 +135,7 @@ void check_recomputed_rows(bool axisymmetric) {
   }
   for (std::size_t p = n / 4; p + 8 < n / 2; p += 16) std::swap(all[p + 2], all[p + 3]);
   std::size_t visited = 0, differ = 0;
-  const bool bitwise = contracts();
-  const auto same = [&](double a, double b) {
-    return bitwise ? std::memcmp(&a, &b, sizeof a) == 0 : std::abs(a - b) <= 1e-13;
-  };
+  const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
   constexpr int W = GimpShape::kWidth;
   // Runs of 1..11 particles, so that every tail length of the batch is taken.
   for (std::size_t k0 = 0; k0 < n;) {
@@ -155,8 +147,8 @@ void check_recomputed_rows(bool axisymmetric) {
           const double* row = &w[p * Stencil<GimpShape>::kRow];
           const SparseGrid::Coord owner{0, 0, 0};
           Stencil<GimpShape> one;
-          const double xi[3] = {0, 0, 0};
-          one.prepare(re, p, xi, 0.0, owner);
+          const double x[3] = {0, 0, 0};
+          one.prepare(re, p, x, c.inv_h, 0.0, owner);
           for (int d = 0; d < 3; ++d) {
             ASSERT_EQ(st.off[d], (off[p] >> (2 * d)) & 3) << "particle " << p << " axis " << d;
             ASSERT_EQ(one.off[d], st.off[d]);
@@ -179,6 +171,137 @@ TEST(StencilCache, RecomputedUGimpRowsAreTheStoredBits) {
 }
 TEST(StencilCache, RecomputedUGimpRowsAreTheStoredBitsRz) {
   check_recomputed_rows(true);
+}
+
+// The first stencil node of a particle is taken in one place (kernels::first_node): the sort's
+// owner key (src/mpm/stages/sort.cpp calls it), the stored rows, the recomputed uGIMP rows (one at
+// a time and eight per vector), Stencil::compute and the multi-field mass gradient (which reads the
+// step's rows) must all find the node the key found, or a row lands in the wrong block. The
+// positions are those where x / h - shift is a whole number up to round-off: lattices of 1, 2
+// and 3 points per cell (1 per cell: the cell centres, where an unfused and a fused x / h - 1/2
+// part), cell faces, over several cell sizes and origins, and random ones.
+std::vector<double> awkward_coordinates(double h, std::mt19937_64& rng) {
+  std::vector<double> v;
+  for (int ppc = 1; ppc <= 3; ++ppc) {
+    const double dx = h / ppc;
+    for (const double lo : {0.0, -10.0 * h, 3.0 * h, -0.37, 0.021}) {
+      for (int k = -40; k < 40; ++k) {
+        v.push_back(lo + (k + 0.5) * dx);
+        v.push_back(lo + 0.5 * dx + k * dx);
+      }
+    }
+  }
+  for (int k = -40; k < 40; ++k) {
+    v.push_back(k * h);
+    v.push_back((k + 0.5) * h);
+    v.push_back(k * h + 0.5 * h);
+  }
+  std::uniform_real_distribution<double> u(-50.0 * h, 50.0 * h);
+  for (int k = 0; k < 400; ++k) v.push_back(u(rng));
+  return v;
+}
+
+template <class Shape>
+void check_first_nodes_agree(double h) {
+  std::mt19937_64 rng(29);
+  const std::vector<double> xs = awkward_coordinates(h, rng);
+  const std::size_t n = xs.size();
+  std::vector<double> x(xs), y(n), z(n), size0(n), mass(n, 1.0);
+  for (std::size_t p = 0; p < n; ++p) {
+    y[p] = xs[(p + n / 3) % n];
+    z[p] = xs[(p + 2 * n / 3) % n];
+    size0[p] = h / static_cast<double>(1 + p % 3);  // 1, 2, 3 points per cell
+  }
+  const double inv_h = 1.0 / h;
+  const double* X[3] = {x.data(), y.data(), z.data()};
+  std::vector<std::int64_t> key[3];  // the owner key's first node (sort.cpp)
+  for (int d = 0; d < 3; ++d) {
+    for (std::size_t p = 0; p < n; ++p) {
+      key[d].push_back(static_cast<std::int64_t>(first_node(X[d][p], inv_h, Shape::kShift)));
+    }
+  }
+  const auto owner = [&](std::size_t p) {
+    return SparseGrid::Coord{static_cast<std::int32_t>(key[0][p] >> SparseGrid::kBlockBits),
+                             static_cast<std::int32_t>(key[1][p] >> SparseGrid::kBlockBits),
+                             static_cast<std::int32_t>(key[2][p] >> SparseGrid::kBlockBits)};
+  };
+  const auto key_off = [&](std::size_t p, int d) { return static_cast<int>(key[d][p] & 3); };
+  // The stored rows (the sort stage's store_stencils).
+  std::vector<double> w(n * Stencil<Shape>::kRow);
+  std::vector<std::uint8_t> off(n);
+  store_stencils<Shape>(X, size0.data(), inv_h, 0, n, {w.data(), off.data(), StencilCache::kStore});
+  // What the transfers read: the stored rows, or the recomputed uGIMP rows.
+  StencilCache rows{w.data(), off.data(), StencilCache::kLoad};
+  if constexpr (kRecomputedRows<Shape>) {
+    rows = StencilCache{};
+    rows.mode = StencilCache::kRecompute;
+    for (int d = 0; d < 3; ++d) rows.x[d] = X[d];
+    rows.size0 = size0.data();
+    rows.inv_h = inv_h;
+  }
+  std::size_t mismatches = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const double xp[3] = {x[p], y[p], z[p]};
+    Stencil<Shape> fresh, read;
+    fresh.compute(xp, inv_h, 0.5 * size0[p] * inv_h, owner(p));
+    read.prepare(rows, p, xp, inv_h, 0.5 * size0[p] * inv_h, owner(p));
+    for (int d = 0; d < 3; ++d) {
+      mismatches += ((off[p] >> (2 * d)) & 3) != key_off(p, d);
+      mismatches += fresh.first[d] != key[d][p];
+      mismatches += read.first[d] != key[d][p];
+    }
+  }
+  if constexpr (kRecomputedRows<Shape>) {  // the batch (AVX-512: eight particles per vector)
+    std::vector<std::uint32_t> all(n);
+    for (std::size_t p = 0; p < n; ++p) all[p] = static_cast<std::uint32_t>(p);
+    for_each_recomputed<Shape>(rows, all, [&](const BatchStencil<Shape>& st, std::uint32_t p) {
+      for (int d = 0; d < 3; ++d) mismatches += st.off[d] != key_off(p, d);
+    });
+  }
+  EXPECT_EQ(mismatches, 0U) << "h = " << h;
+  // The mass gradient scatters particle p alone into the scratch window of its owner block (no
+  // node is a body copy, so nothing leaves the window). Its sums of N_I place the particle where
+  // it is (sum_I N_I x_I = x_p, window units): a first node off by one across a block face moves
+  // it by a whole block where the offset wraps (2 bits, as the rows pack it). Where it does not
+  // wrap (Stencil::compute's offset 4 or -1), the node beyond the window has weight 0, and only
+  // the write tells: the arrays after the window (px, ..., which the mass gradient leaves alone)
+  // hold -0, which adding a +0 turns into +0.
+  P2GParticles in{};
+  in.x = x.data(), in.y = y.data(), in.z = z.data(), in.mass = mass.data();
+  in.size0 = size0.data(), in.inv_h = inv_h, in.stencil = rows;
+  const auto scratch = std::make_unique<P2GScratch>();
+  SparseGrid::Nodes nodes;
+  const std::uint32_t nb[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  constexpr int E = P2GScratch::kEdge;
+  std::size_t misplaced = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const std::uint32_t one[1] = {static_cast<std::uint32_t>(p)};
+    for (double* a : {scratch->px, scratch->py, scratch->pz}) std::fill(a, a + E * E * E, -0.0);
+    mass_gradient_block<Shape>(in, one, owner(p), nb, 8, nodes, *scratch);
+    for (const double* a : {scratch->px, scratch->py, scratch->pz}) {
+      misplaced += std::count_if(a, a + E * E * E, [](double v) { return !std::signbit(v); });
+    }
+    double sum = 0.0, at[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < P2GScratch::kSize; ++i) {
+      const double m = scratch->m[i];
+      const int l[3] = {i / (E * E), (i / E) % E, i % E};
+      sum += m;
+      for (int d = 0; d < 3; ++d) at[d] += m * l[d];
+    }
+    for (int d = 0; d < 3; ++d) {
+      const double expect = key_off(p, d) + (X[d][p] * inv_h - static_cast<double>(key[d][p]));
+      misplaced += !(std::abs(at[d] / sum - expect) < 1e-6);
+    }
+  }
+  EXPECT_EQ(misplaced, 0U) << "h = " << h;
+}
+
+TEST(StencilCache, EveryPathTakesTheKeysFirstNode) {
+  for (const double h : {1.6e-3, 1e-3, 0.1, 0.05, 2.5e-4, 1.0 / 3.0, 7e-3}) {
+    check_first_nodes_agree<GimpShape>(h);
+    check_first_nodes_agree<BSpline2Shape>(h);
+    check_first_nodes_agree<LinearShape>(h);
+  }
 }
 
 // Every stencil node read through the window holds the same value as the node the direct lookup
@@ -207,9 +330,9 @@ TEST(StencilCache, NodeWindowHoldsTheStencilNodes) {
     if (grid.owned(b).empty()) continue;
     win.load(grid.neighbours(b), fields, 3);
     for (const std::uint32_t p : grid.owned(b)) {
-      const double xi[3] = {c.x[p] * c.inv_h, c.y[p] * c.inv_h, c.z[p] * c.inv_h};
+      const double x[3] = {c.x[p], c.y[p], c.z[p]};
       Stencil<Shape> st;
-      st.compute(xi, 0.5 * c.size0[p] * c.inv_h, grid.coord(b));
+      st.compute(x, c.inv_h, 0.5 * c.size0[p] * c.inv_h, grid.coord(b));
       for (int a = 0; a < Shape::kWidth; ++a) {
         for (int bb = 0; bb < Shape::kWidth; ++bb) {
           for (int cc = 0; cc < Shape::kWidth; ++cc) {

@@ -50,7 +50,7 @@ long double brute_force_unresolved(const ParticleStore& P) {
     const double lp = std::min(0.5 * s[p] / kH, 0.5);
     double w[3][Shape::kWidth], dw[Shape::kWidth];
     int first[3];
-    for (int d = 0; d < 3; ++d) first[d] = Shape::weights(x[d][p] / kH, lp, w[d], dw);
+    for (int d = 0; d < 3; ++d) first[d] = Shape::weights(x[d][p] / kH, 1.0, lp, w[d], dw);
     for (int a = 0; a < Shape::kWidth; ++a) {
       for (int b = 0; b < Shape::kWidth; ++b) {
         for (int c = 0; c < Shape::kWidth; ++c) {

@@ -90,7 +90,7 @@ std::vector<Vector3d> step_once(const ParticleStore& start, const SolverConfig& 
 std::vector<std::pair<std::int64_t, double>> weights_1d(double x, double size0) {
   double w[3], dw[3];
   const double lp = std::min(0.5 * size0 / kCell, 0.5);
-  const std::int64_t first = kernels::GimpShape::weights(x / kCell, lp, w, dw);
+  const std::int64_t first = kernels::GimpShape::weights(x, 1.0 / kCell, lp, w, dw);
   return {{first, w[0]}, {first + 1, w[1]}, {first + 2, w[2]}};
 }
 
