@@ -17,8 +17,9 @@ the volume falls); "final" is the last snapshot. The largest volume is the trans
 the iSALE scaling studies (Elbeshausen, Wuennemann & Collins 2009, Icarus 204, and those after
 it, as recalled: their text was not found by this session's searches, only their abstracts).
 End of excavation (session 19): the Earth Impact Effects Program's glossary (Collins, Melosh &
-Marcus 2005, MAPS 40; the page "craterglos.html" of the program's site, entry "Transient
-Crater"; Melosh's crater-size program notes say the same) defines the transient crater as the
+Marcus 2005, MAPS 40; http://impact.ese.ic.ac.uk/ImpactEffects/craterglos.html, entry
+"Transient Crater"; the page of Melosh's crater-size program,
+scientificpsychic.com/etc/timeline/projectile-size.html, has the same entry) defines the transient crater as the
 cavity at the moment excavation ends, before collapse and modification begin, and says that the
 laboratory-derived scaling relations are for that cavity, not for the collapsed one.
 Excavation is the flow that throws target material out of the cavity, so its end is taken here
