@@ -61,10 +61,13 @@ def rerun_under_xvfb():
     cmd = [xvfb, "-a", "-s", "-screen 0 1920x1080x24", sys.executable,
            os.path.abspath(__file__)] + sys.argv[1:]
     # xvfb-run -a picks a free display number, but two starting at once can pick the same one
-    # ("Xvfb failed to start"): try again, a few times.
+    # ("Xvfb failed to start", or a server that another run's xvfb-run tears down under us, so
+    # that ParaView aborts creating its window): try again, a few times. Only these two X
+    # start-up failures are retried; any other error is reported at once.
+    x_startup = ("Xvfb failed to start", "vtkXOpenGLRenderWindow::CreateAWindow")
     for attempt in range(4):
         r = subprocess.run(cmd, env=env, stderr=subprocess.PIPE, text=True)
-        if "Xvfb failed to start" not in r.stderr or attempt == 3:
+        if not any(s in r.stderr for s in x_startup) or r.returncode == 0 or attempt == 3:
             break
         time.sleep(1.0 + attempt)
     sys.stderr.write(r.stderr)
