@@ -105,10 +105,16 @@ def within_radius(ours, tracer_csv):
     return out
 
 
-def tracer_file(root, cohesion, porosity):
+def tracer_file(root, cohesion, porosity, friction=0.6):
+    """iSALE's tracer file of a grid point: Porosity/*/Yd1eN-PP.csv at f 0.6, else
+    Friction/*/Yd1eN-FF.csv (FF = 10 f, two digits)."""
     import glob
-    name = f"Yd1e{round(__import__('math').log10(cohesion))}-{porosity:g}.csv"
-    hits = sorted(glob.glob(os.path.join(root, "Porosity", "*", name)))
+    n = round(__import__('math').log10(cohesion))
+    if friction == 0.6:
+        series, name = "Porosity", f"Yd1e{n}-{porosity:g}.csv"
+    else:
+        series, name = "Friction", f"Yd1e{n}-{round(10 * friction):02d}.csv"
+    hits = sorted(glob.glob(os.path.join(root, series, "*", name)))
     return hits[0] if hits else None
 
 
@@ -137,8 +143,9 @@ def main():
             row[f"isale_beta_gt_{q:g}U"] = float(r[f"beta_gt_{q:g}U"])
             row[f"isale_M_gt_{q:g}U_over_mimp"] = float(r[f"M_gt_{q:g}U_over_mimp"])
         table.append(row)
-        if args.tracers and tracer_file(args.tracers, key[0], key[1]):
-            for X, b_o, b_i in within_radius(launches, tracer_file(args.tracers, key[0], key[1])):
+        tracers = args.tracers and tracer_file(args.tracers, *key)
+        if tracers:
+            for X, b_o, b_i in within_radius(launches, tracers):
                 print(f"{row['run']}: launched within {X} m: beta ours {b_o:.3f}, iSALE {b_i:.3f}")
         curves.append((row, ts))
     keys = list(table[0].keys())
