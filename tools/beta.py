@@ -145,25 +145,19 @@ def main():
             for x, m, h in table:
                 f.write(f"{x:.6g},{m:.6g},{h:.6g}\n")
     if a.plot:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+        import plot_common as pc  # tools/plot_common.py: Agg, dpi, common labels
+        fig, (ax, ax2) = pc.subplots(1, 2, figsize=(10, 4))
         t = [float(r["time_s"]) * 1e3 for r in rows]
         for key in ("beta", "beta_target", "beta_launch"):
             ax.plot(t, [float(r[key]) for r in rows], label=key)
         ax.axhspan(3.61 - 0.25, 3.61 + 0.19, color="gray", alpha=0.3, label="DART 3.61 (Cheng 2023)")
-        ax.set_xlabel("time (ms)")
-        ax.set_ylabel("beta")
-        ax.legend(fontsize=8)
+        pc.label(ax, "t_ms", "beta")
+        pc.legend(ax)
         ax2.loglog([x for x, _, _ in table], [m for _, m, _ in table], "o-", label="simulated")
         ax2.loglog([x for x, _, _ in table], [h for _, _, h in table], "--", label="HH2011")
-        ax2.set_xlabel("v / U")
-        ax2.set_ylabel("M(>v) / m")
-        ax2.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(a.plot, dpi=120)
-
+        pc.label(ax2, "v_over_U", "M_over_m")
+        pc.legend(ax2)
+        pc.save(fig, a.plot)
 
 if __name__ == "__main__":
     main()

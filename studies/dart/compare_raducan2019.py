@@ -31,6 +31,10 @@ Usage: compare_raducan2019.py REFERENCE.csv RUN=1e4:20:0.6[:CPPR:CPU_S] [RUN=...
 import argparse
 import csv
 import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+import plot_common as pc  # noqa: E402  (tools/plot_common.py: Agg, dpi, common labels)
 
 Q = (5e-2, 2e-2, 1e-2)
 
@@ -101,10 +105,16 @@ def within_radius(ours, tracer_csv):
     return out
 
 
-def tracer_file(root, cohesion, porosity):
+def tracer_file(root, cohesion, porosity, friction=0.6):
+    """iSALE's tracer file of a grid point: Porosity/*/Yd1eN-PP.csv at f 0.6, else
+    Friction/*/Yd1eN-FF.csv (FF = 10 f, two digits)."""
     import glob
-    name = f"Yd1e{round(__import__('math').log10(cohesion))}-{porosity:g}.csv"
-    hits = sorted(glob.glob(os.path.join(root, "Porosity", "*", name)))
+    n = round(__import__('math').log10(cohesion))
+    if friction == 0.6:
+        series, name = "Porosity", f"Yd1e{n}-{porosity:g}.csv"
+    else:
+        series, name = "Friction", f"Yd1e{n}-{round(10 * friction):02d}.csv"
+    hits = sorted(glob.glob(os.path.join(root, series, "*", name)))
     return hits[0] if hits else None
 
 
@@ -133,8 +143,9 @@ def main():
             row[f"isale_beta_gt_{q:g}U"] = float(r[f"beta_gt_{q:g}U"])
             row[f"isale_M_gt_{q:g}U_over_mimp"] = float(r[f"M_gt_{q:g}U_over_mimp"])
         table.append(row)
-        if args.tracers and tracer_file(args.tracers, key[0], key[1]):
-            for X, b_o, b_i in within_radius(launches, tracer_file(args.tracers, key[0], key[1])):
+        tracers = args.tracers and tracer_file(args.tracers, *key)
+        if tracers:
+            for X, b_o, b_i in within_radius(launches, tracers):
                 print(f"{row['run']}: launched within {X} m: beta ours {b_o:.3f}, iSALE {b_i:.3f}")
         curves.append((row, ts))
     keys = list(table[0].keys())
@@ -155,11 +166,8 @@ def main():
 
 
 def plot(curves, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, (ax, ax_dt) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True,
-                                    gridspec_kw={"height_ratios": [3, 1]})
+    fig, (ax, ax_dt) = pc.subplots(2, 1, figsize=(7, 6.5), sharex=True,
+                                   gridspec_kw={"height_ratios": [3, 1]})
     for i, (row, ts) in enumerate(curves):
         colour = f"C{i}"
         label = f"{row['cohesion_Pa'] / 1e3:g} kPa, {row['porosity_pct']:g}%, f {row['friction']:g}"
@@ -169,15 +177,12 @@ def plot(curves, path):
         ax.axhline(row["isale_beta"], color=colour, ls=":", lw=1)
         ax_dt.plot([r[0] * 1e3 for r in ts], [r[2] for r in ts], colour, lw=0.8)
     ax_dt.set_yscale("log")
-    ax_dt.set_ylabel("dt (s)")
-    ax_dt.set_xlabel("t (ms)")
-    ax.set_ylabel("beta_launch")
+    pc.label(ax_dt, "t_ms", "dt")
+    pc.label(ax, None, "beta_launch")
     ax.set_title("r-z MPM vs iSALE (Raducan et al. 2019): -- ejecta > 0.01 U, : all (final)",
                  fontsize=9)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-
+    pc.legend(ax)
+    pc.save(fig, path)
 
 if __name__ == "__main__":
     main()

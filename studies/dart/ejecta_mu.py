@@ -35,6 +35,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools"))
 sys.path.insert(0, HERE)
 import beta as beta_tool  # noqa: E402  (tools/beta.py)
+import plot_common as pc  # noqa: E402  (tools/plot_common.py: Agg, dpi, common labels)
 import raducan2019_beta as r19  # noqa: E402
 
 EDGES = (0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001)
@@ -103,10 +104,7 @@ def main():
             for r in table:
                 w.writerow({k: (f"{v:.5g}" if isinstance(v, float) else v) for k, v in r.items()})
     if a.plot:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(6.5, 4.5))
+        fig, ax = pc.subplots(figsize=(6.5, 4.5))
         qs = [10 ** (-4 + 0.05 * i) for i in range(81)]
         for name, source, m_imp, speed, rows in curves:
             ys = [cumulative(rows, m_imp, speed, q) for q in qs]
@@ -116,12 +114,9 @@ def main():
             ax.loglog([a.fit[0], a.fit[1]], [y0 * (a.fit[0] / x0) ** (-3 * mu), y0], "k" + ls,
                       lw=1, label=f"slope of mu {mu} (HH2011 class)")
         ax.axvspan(a.fit[0], a.fit[1], color="gray", alpha=0.1)
-        ax.set_xlabel("launch speed v / U")
-        ax.set_ylabel("M(>v) / m_imp")
-        ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(a.plot, dpi=120)
-
+        pc.label(ax, "v_over_U", "M_over_m")
+        pc.legend(ax, fontsize=7)
+        pc.save(fig, a.plot)
 
 if __name__ == "__main__":
     main()

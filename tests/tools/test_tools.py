@@ -295,6 +295,32 @@ def test_beta_refuses_a_run_without_beta_columns(tiny_run):
     assert "has no beta columns" in r.stderr, r.stderr
 
 
+def png_size(path):
+    with open(path, "rb") as f:
+        head = f.read(24)
+    assert head[:8] == b"\x89PNG\r\n\x1a\n"
+    return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")  # IHDR
+
+
+def test_plot_common_saves_at_its_dpi_and_beta_plots_with_it(tmp_path):
+    # tools/plot_common.py's demo is 4 x 3 inches, beta.py's figure 10 x 4 inches: both saved at
+    # plot_common.DPI (read from the module, so a changed DPI moves both and the test with them).
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("plot_common",
+                                                  os.path.join(TOOLS, "plot_common.py"))
+    pc = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(pc)
+    demo = tmp_path / "demo.png"
+    r = run([PYTHON, os.path.join(TOOLS, "plot_common.py"), "--demo", str(demo)])
+    assert r.returncode == 0, r.stderr
+    assert png_size(demo) == (4 * pc.DPI, 3 * pc.DPI)
+    beta_run, png = tmp_path / "run", tmp_path / "beta.png"
+    write_beta_run(beta_run, [1.0, 1.1, 1.2], [(50.0, 1.0), (20.0, 1.0), (10.0, 2.0)])
+    r = run_tool_beta(beta_run, "--plot", str(png))
+    assert r.returncode == 0, r.stderr
+    assert png_size(png) == (10 * pc.DPI, 4 * pc.DPI)
+
+
 def run_tool_beta(run_dir, *args):
     return run([PYTHON, os.path.join(TOOLS, "beta.py"), str(run_dir), *args])
 
