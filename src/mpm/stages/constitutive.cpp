@@ -65,11 +65,9 @@ void step7(State& s, bool rings) {
   grad.stencil = s.stencil_rows<Shape>();
   if (s.transfer.affine) vgrad_columns(P, grad.vgrad);
   const ConstitutiveContext base{s.dt_step, s.config.cell_size, s.config.viscosity, rings};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks.size(), 1), [&](const tbb::
-                                                                                  blocked_range<
-                                                                                      std::size_t>&
-                                                                                      r) {
-    auto scratch = std::make_unique<ChunkScratch>();
+  const auto tasks = [&](const tbb::blocked_range<std::size_t>& r) {
+    // Not zero-filled: a chunk writes every entry it reads first.
+    const auto scratch = std::make_unique_for_overwrite<ChunkScratch>();
     ChunkScratch& w = *scratch;
     for (std::size_t c = r.begin(); c < r.end(); ++c) {
       const Chunk& ch = chunks[c];
@@ -107,7 +105,8 @@ void step7(State& s, bool rings) {
       ctx.increments = &views;
       s.materials[static_cast<std::size_t>(ch.material)]->update(P, Range{ch.begin, ch.end}, ctx);
     }
-  });
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks.size(), 1), tasks);
 }
 
 }  // namespace
