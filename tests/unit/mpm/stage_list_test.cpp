@@ -44,6 +44,22 @@ TEST(StageList, ApicHasNoRemap) {
                                       "advance_positions", "energy", "time_step"}));
 }
 
+// Issue 35: the strain and spin increments live in the constitutive stage's chunk buffers; a
+// step leaves no column of them in the store.
+TEST(StageList, TheIncrementsAreNoStoreColumns) {
+  ParticleStore s;
+  test::add_box(s, 0, Vector3d::Zero(), Vector3d::Constant(0.2), 0.05, 1000.0,
+                Vector3d(10.0, 0.0, 0.0), 0);
+  Simulation sim(base(), std::move(s), {std::make_shared<LinearElastic>(1000.0, 1e6, 0.25)}, 1);
+  sim.step();
+  for (const Field f :
+       {Field::deps_xx, Field::deps_yy, Field::deps_zz, Field::deps_xy, Field::deps_yz,
+        Field::deps_xz, Field::dspin_xy, Field::dspin_yz, Field::dspin_xz}) {
+    EXPECT_FALSE(sim.particles().has(f)) << name_of(f);
+  }
+  EXPECT_TRUE(sim.particles().has(Field::rho));
+}
+
 TEST(StageList, XpicAndFmpmFilterBeforeG2pFromOrderTwo) {
   SolverConfig cfg = base();
   cfg.transfer = TransferKind::xpic;
