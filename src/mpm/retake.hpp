@@ -26,8 +26,8 @@ struct State;
 // any stage reads them: the strain and spin increments (which the engine keeps out of the
 // store since issue 35; a store restored from an older checkpoint may still hold them, unread),
 // and pressure and sound speed, which MaterialModel::update sets for step n+1 from the rest of
-// the state (its contract; the time-step and energy stages read them after it). Every other registered column is saved, so
-// a column added later is saved unless it is listed here.
+// the state (its contract; the time-step and energy stages read them after it). Every other
+// registered column is saved, so a column added later is saved unless it is listed here.
 constexpr FieldSet kStepConstant{Field::mass,    Field::volume0, Field::size0,    Field::eps_min,
                                  Field::eps_max, Field::n_flaws, Field::weibull_m};
 constexpr FieldSet kStepLocal =
