@@ -18,6 +18,7 @@ template <class Shape>
 void BM_VelocityGradient(benchmark::State& state) {
   bench::Prepared<Shape> body(state.range(0));
   ParticleStore& P = body.store;
+  P.require(kStrainIncrement | kSpinIncrement);
   const SparseGrid& grid = body.grid;
   // dt = 1e-12: repeated density updates stay at rho0.
   kernels::GradientParticles in = mpm::gradient_inputs(P, 1.0 / bench::kCell, 1e-12);
@@ -40,6 +41,7 @@ void BM_VelocityGradient(benchmark::State& state) {
 
 void BM_ElasticUpdate(benchmark::State& state) {
   ParticleStore P = bench::make_body(state.range(0));
+  P.require(kStrainIncrement | kSpinIncrement);
   const LinearElastic model(bench::kRho, bench::kYoung, bench::kPoisson);
   model.initialise(P, P.groups()[0].range);
   // Small, non-zero strain and spin increments.

@@ -54,8 +54,11 @@ struct ConstitutiveColumns {
   double* stress[6] = {};
   double* pressure = nullptr;
   double* soundspeed = nullptr;
+  // The increments: particle p's at deps[k][p - increments_begin] (a caller's chunk buffer,
+  // include/shatter/material/material_model.hpp IncrementViews; 0 for store columns).
   const double* deps[6] = {};
   const double* dspin[3] = {};
+  std::size_t increments_begin = 0;
   double* sdev[6] = {};  // undamaged deviator (damage on)
   double* plastic_strain = nullptr;
   double* heat = nullptr;
@@ -285,8 +288,9 @@ class ComposedKernel {
     using simd::load_col;
     pt.rho = load_col<T>(c.rho + p);
     pt.e_old = load_col<T>(c.energy + p);
-    for (int k = 0; k < 6; ++k) pt.de[k] = load_col<T>(c.deps[k] + p);
-    for (int k = 0; k < 3; ++k) pt.w[k] = load_col<T>(c.dspin[k] + p);
+    const std::size_t q = p - c.increments_begin;
+    for (int k = 0; k < 6; ++k) pt.de[k] = load_col<T>(c.deps[k] + q);
+    for (int k = 0; k < 3; ++k) pt.w[k] = load_col<T>(c.dspin[k] + q);
     for (int k = 0; k < 6; ++k) pt.sig_old[k] = load_col<T>(c.stress[k] + p);
     load_deviator<T>(c, p, pt.s);
     if constexpr (Porosity::kEnabled && !Damage::kEnabled) {

@@ -3,6 +3,7 @@
 // nodal velocities, strain increment deps = dt sym(L) (Eq. 21) and spin increment
 // dW = dt skew(L) (Eq. 23), and the density update rho^{n+1} = rho^n / (1 + tr deps).
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -16,7 +17,8 @@ struct GradientParticles {
   double* rho;
   double *exx, *eyy, *ezz, *exy, *eyz, *exz;  // strain increment (tensor components)
   double *wxy, *wyz, *wxz;                    // spin increment, W_ij = (L_ij - L_ji) dt / 2
-  double* vgrad[9];  // APIC: L itself (1/s, row-major) becomes C_p; null for FLIP
+  std::size_t inc_begin = 0;  // particle p's increments at index p - inc_begin (a chunk buffer)
+  double* vgrad[9];           // APIC: L itself (1/s, row-major) becomes C_p; null for FLIP
   double inv_h;
   double dt;
   StencilCache stencil;  // kLoad: the stencils P2G stored this step
@@ -87,15 +89,16 @@ void velocity_gradient_block(const GradientParticles& in, std::span<const std::u
       }
     }
     const double k = in.dt * in.inv_h;
-    in.exx[p] = k * L[0][0];
-    in.eyy[p] = k * L[1][1];
-    in.ezz[p] = k * L[2][2];
-    in.exy[p] = 0.5 * k * (L[0][1] + L[1][0]);
-    in.eyz[p] = 0.5 * k * (L[1][2] + L[2][1]);
-    in.exz[p] = 0.5 * k * (L[0][2] + L[2][0]);
-    in.wxy[p] = 0.5 * k * (L[0][1] - L[1][0]);
-    in.wyz[p] = 0.5 * k * (L[1][2] - L[2][1]);
-    in.wxz[p] = 0.5 * k * (L[0][2] - L[2][0]);
+    const std::size_t q = p - in.inc_begin;
+    in.exx[q] = k * L[0][0];
+    in.eyy[q] = k * L[1][1];
+    in.ezz[q] = k * L[2][2];
+    in.exy[q] = 0.5 * k * (L[0][1] + L[1][0]);
+    in.eyz[q] = 0.5 * k * (L[1][2] + L[2][1]);
+    in.exz[q] = 0.5 * k * (L[0][2] + L[2][0]);
+    in.wxy[q] = 0.5 * k * (L[0][1] - L[1][0]);
+    in.wyz[q] = 0.5 * k * (L[1][2] - L[2][1]);
+    in.wxz[q] = 0.5 * k * (L[0][2] - L[2][0]);
     in.rho[p] /= 1.0 + k * (L[0][0] + L[1][1] + L[2][2]);  // App. A.2 step 7
   };
   if constexpr (kRecomputedRows<Shape>) {

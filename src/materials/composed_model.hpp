@@ -59,7 +59,11 @@ class ComposedModel final : public MaterialModel {
   void update(ParticleStore& store, Range range, const ConstitutiveContext& ctx) const override {
     const constitutive::StepParams sp{ctx.dt, ctx.cell_size, ctx.viscosity.linear,
                                       ctx.viscosity.quadratic};
-    auto columns = gather_columns(store, fields(), true);
+    auto columns = gather_columns(store, fields(), false);
+    const IncrementViews inc = increments_of(store, ctx);
+    for (int k = 0; k < 6; ++k) columns.deps[k] = inc.deps[k];
+    for (int k = 0; k < 3; ++k) columns.dspin[k] = inc.dspin[k];
+    columns.increments_begin = inc.begin;
     if (ctx.rings) columns.ring_radius = store.col(Field::x).data();
     kernel_.update(columns, range.begin, range.end, sp);
     // Peak-pressure tracer: the largest EOS pressure (the kernel's step 3, Eqs. 8-12) seen so

@@ -42,15 +42,14 @@ void LinearElastic::initialise(ParticleStore& store, Range range) const {
   }
 }
 
-void LinearElastic::update(ParticleStore& store, Range range, const ConstitutiveContext&) const {
+void LinearElastic::update(ParticleStore& store, Range range,
+                           const ConstitutiveContext& ctx) const {
   double* sig[6] = {store.col(Field::sxx).data(), store.col(Field::syy).data(),
                     store.col(Field::szz).data(), store.col(Field::sxy).data(),
                     store.col(Field::syz).data(), store.col(Field::sxz).data()};
-  const double* de[6] = {store.col(Field::deps_xx).data(), store.col(Field::deps_yy).data(),
-                         store.col(Field::deps_zz).data(), store.col(Field::deps_xy).data(),
-                         store.col(Field::deps_yz).data(), store.col(Field::deps_xz).data()};
-  const double* dw[3] = {store.col(Field::dspin_xy).data(), store.col(Field::dspin_yz).data(),
-                         store.col(Field::dspin_xz).data()};
+  const IncrementViews inc = increments_of(store, ctx);
+  const double* const* de = inc.deps;
+  const double* const* dw = inc.dspin;
   const double* rho = store.col(Field::rho).data();
   double* energy = store.col(Field::energy).data();
   double* pressure = store.col(Field::pressure).data();
@@ -62,8 +61,9 @@ void LinearElastic::update(ParticleStore& store, Range range, const Constitutive
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t p = r.begin(); p < r.end(); ++p) {
                         double s[6], e[6];
-                        for (int k = 0; k < 6; ++k) s[k] = sig[k][p], e[k] = de[k][p];
-                        const double w[3] = {dw[0][p], dw[1][p], dw[2][p]};
+                        const std::size_t q = p - inc.begin;
+                        for (int k = 0; k < 6; ++k) s[k] = sig[k][p], e[k] = de[k][q];
+                        const double w[3] = {dw[0][q], dw[1][q], dw[2][q]};
                         double s_old[6];
                         for (int k = 0; k < 6; ++k) s_old[k] = s[k];
                         kernels::jaumann_rotate(s, w);  // Eq. 35, rotation part

@@ -23,11 +23,11 @@ struct State;
 // volume and size of the material point, and its flaw population: the damage models read
 // eps_min, eps_max, n_flaws and weibull_m and store them back unchanged), nor the integer
 // columns (id, body, fragment). Step-local: each step writes them for every particle before
-// any stage reads them: the strain and spin increments (the velocity-gradient stage, App. A.2
-// step 7, before the constitutive update reads them), and pressure and sound speed, which
-// MaterialModel::update sets for step n+1 from the rest of the state (its contract; the
-// time-step and energy stages read them after it). Every other registered column is saved, so
-// a column added later is saved unless it is listed here.
+// any stage reads them: the strain and spin increments (which the engine keeps out of the
+// store since issue 35; a store restored from an older checkpoint may still hold them, unread),
+// and pressure and sound speed, which MaterialModel::update sets for step n+1 from the rest of
+// the state (its contract; the time-step and energy stages read them after it). Every other
+// registered column is saved, so a column added later is saved unless it is listed here.
 constexpr FieldSet kStepConstant{Field::mass,    Field::volume0, Field::size0,    Field::eps_min,
                                  Field::eps_max, Field::n_flaws, Field::weibull_m};
 constexpr FieldSet kStepLocal =

@@ -29,9 +29,9 @@ void refresh_timings(State& s);  // step.cpp
 namespace {
 
 const FieldSet kEngineFields =
-    kPosition | kVelocity | kStress | kStrainIncrement | kSpinIncrement |
-    FieldSet{Field::mass,   Field::volume0,  Field::size0,     Field::rho,
-             Field::energy, Field::pressure, Field::soundspeed};
+    kPosition | kVelocity | kStress | FieldSet{Field::mass,      Field::volume0, Field::size0,
+                                               Field::rho,       Field::energy,  Field::pressure,
+                                               Field::soundspeed};
 
 void check_config(const SolverConfig& c) {
   if (!(c.cell_size > 0.0) || !std::isfinite(c.cell_size)) {

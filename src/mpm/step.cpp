@@ -36,9 +36,8 @@ void add_stages(State& s) {
     if (s.dist()) g.add(parallel::momentum_halo_stage(s, remap, false));
     g.add(remap_velocity_stage(s));
   }
-  g.add(velocity_gradient_stage<Shape>(s));  // 7a. Eqs. 21, 23
-  g.add(constitutive_stage(s));              // 7b. Eqs. 22, 35
-  g.add(advance_positions_stage(s));         // x^{n+1}
+  g.add(constitutive_stage<Shape>(s));  // 7a, 7b. Eqs. 21, 23; Eqs. 22, 35
+  g.add(advance_positions_stage(s));    // x^{n+1}
   if (s.boundaries.has_outflow()) g.add(outflow_stage(s));
   g.add(energy_stage(s));     // energy accounts and the next time step (Eq. 34)
   g.add(time_step_stage(s));  // are independent: they run concurrently

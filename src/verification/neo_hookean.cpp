@@ -55,10 +55,10 @@ void UniaxialNeoHookean::initialise(ParticleStore& store, Range range) const {
 // Jaumann rotation to integrate (Eq. 35 applies to rate forms); rotations are absent in
 // uniaxial strain anyway. The engine has already set rho^{n+1} (App. A.2 step 7).
 void UniaxialNeoHookean::update(ParticleStore& store, Range range,
-                                const ConstitutiveContext&) const {
+                                const ConstitutiveContext& ctx) const {
   const double* rho = store.col(Field::rho).data();
-  const double* de[3] = {store.col(Field::deps_xx).data(), store.col(Field::deps_yy).data(),
-                         store.col(Field::deps_zz).data()};
+  const IncrementViews inc = increments_of(store, ctx);
+  const double* const* de = inc.deps;
   double* sig[3] = {store.col(Field::sxx).data(), store.col(Field::syy).data(),
                     store.col(Field::szz).data()};
   double* energy = store.col(Field::energy).data();
@@ -69,10 +69,11 @@ void UniaxialNeoHookean::update(ParticleStore& store, Range range,
     const double s_new[3] = {axial_stress(F), lateral_stress(F), lateral_stress(F)};
     // Specific internal energy with the mid-step stress and density (App. A.2 step 7), as the
     // engine's linear elastic model does, so the energy accounts stay comparable.
-    const double tr = de[0][p] + de[1][p] + de[2][p];
+    const std::size_t q = p - inc.begin;
+    const double tr = de[0][q] + de[1][q] + de[2][q];
     const double rho_old = rho[p] * (1.0 + tr);
     double work = 0.0;
-    for (int k = 0; k < 3; ++k) work += 0.5 * (sig[k][p] + s_new[k]) * de[k][p];
+    for (int k = 0; k < 3; ++k) work += 0.5 * (sig[k][p] + s_new[k]) * de[k][q];
     energy[p] += work / (0.5 * (rho_old + rho[p]));
     for (int k = 0; k < 3; ++k) sig[k][p] = s_new[k];
     pressure[p] = -(s_new[0] + s_new[1] + s_new[2]) / 3.0;

@@ -5,6 +5,7 @@
 // never per particle); inside, it runs a kernel compiled for its (EOS, strength, damage)
 // combination.
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -18,6 +19,16 @@ struct ArtificialViscosity {
   double quadratic = 0.0;  // c_Q, multiplies rho * (h * div v)^2
 };
 
+// The strain and spin increments of the particles being updated, in buffers the caller owns
+// (issue 35: the MPM step computes them per chunk of particles, right before the update, and
+// keeps no store column of them): particle p's deps_k at deps[k][p - begin] (xx, yy, zz, xy,
+// yz, xz, tensor components), its dspin_k at dspin[k][p - begin] (xy, yz, xz).
+struct IncrementViews {
+  const double* deps[6] = {};
+  const double* dspin[3] = {};
+  std::size_t begin = 0;  // the store index of the buffers' first entry
+};
+
 // What a model's update needs from the engine besides the columns.
 struct ConstitutiveContext {
   double dt = 0.0;         // the step over which deps and dspin were accumulated
@@ -26,7 +37,21 @@ struct ConstitutiveContext {
   // r-z (issue 31): each point is a ring about z at radius x; the damage's crack-growth length
   // R_s is then that of the ring's cross-section (kernels/constitutive/composed_kernel.hpp).
   bool rings = false;
+  // The increments; null: the store's deps_* and dspin_* columns (SPH, tests, benchmarks).
+  const IncrementViews* increments = nullptr;
 };
+
+// The increments a model's update reads: the context's views, else the store's columns.
+inline IncrementViews increments_of(ParticleStore& store, const ConstitutiveContext& ctx) {
+  if (ctx.increments != nullptr) return *ctx.increments;
+  constexpr Field deps[6] = {Field::deps_xx, Field::deps_yy, Field::deps_zz,
+                             Field::deps_xy, Field::deps_yz, Field::deps_xz};
+  constexpr Field spin[3] = {Field::dspin_xy, Field::dspin_yz, Field::dspin_xz};
+  IncrementViews v;
+  for (int k = 0; k < 6; ++k) v.deps[k] = store.col(deps[k]).data();
+  for (int k = 0; k < 3; ++k) v.dspin[k] = store.col(spin[k]).data();
+  return v;
+}
 
 class MaterialModel {
  public:
@@ -47,10 +72,12 @@ class MaterialModel {
   virtual void initialise(ParticleStore& store, Range range) const = 0;
 
   // App. A.2 step 7 for particles in `range`. On entry: rho holds rho^{n+1} (already updated by
-  // the engine from tr(deps)), deps_* and dspin_* hold the increments over ctx.dt, and stress,
-  // energy and model state hold their values at step n. On exit: stress (the Cauchy stress the
-  // momentum equation sees, damage included), pressure, energy and soundspeed (the longitudinal
-  // speed c_p used for the time step, Eq. 34) hold step n+1 values.
+  // the engine from tr(deps)), increments_of(store, ctx) holds the increments over ctx.dt, and
+  // stress, energy and model state hold their values at step n. On exit: stress (the Cauchy stress
+  // the momentum equation sees, damage included), pressure, energy and soundspeed (the longitudinal
+  // speed c_p used for the time step, Eq. 34) hold step n+1 values. The MPM step calls it per
+  // chunk of a group (src/mpm/stages/constitutive.cpp), concurrently on disjoint ranges: a
+  // model's update writes only the rows of its range.
   virtual void update(ParticleStore& store, Range range, const ConstitutiveContext& ctx) const = 0;
 };
 

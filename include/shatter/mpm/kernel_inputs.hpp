@@ -63,15 +63,17 @@ inline kernels::GradientParticles gradient_inputs(ParticleStore& P, double inv_h
   in.z = P.col(Field::z).data();
   in.size0 = P.col(Field::size0).data();
   in.rho = P.col(Field::rho).data();
-  in.exx = P.col(Field::deps_xx).data();
-  in.eyy = P.col(Field::deps_yy).data();
-  in.ezz = P.col(Field::deps_zz).data();
-  in.exy = P.col(Field::deps_xy).data();
-  in.eyz = P.col(Field::deps_yz).data();
-  in.exz = P.col(Field::deps_xz).data();
-  in.wxy = P.col(Field::dspin_xy).data();
-  in.wyz = P.col(Field::dspin_yz).data();
-  in.wxz = P.col(Field::dspin_xz).data();
+  if (P.has(Field::deps_xx)) {  // else the caller points them at its chunk buffer
+    in.exx = P.col(Field::deps_xx).data();
+    in.eyy = P.col(Field::deps_yy).data();
+    in.ezz = P.col(Field::deps_zz).data();
+    in.exy = P.col(Field::deps_xy).data();
+    in.eyz = P.col(Field::deps_yz).data();
+    in.exz = P.col(Field::deps_xz).data();
+    in.wxy = P.col(Field::dspin_xy).data();
+    in.wyz = P.col(Field::dspin_yz).data();
+    in.wxz = P.col(Field::dspin_xz).data();
+  }
   in.inv_h = inv_h;
   in.dt = dt;
   return in;

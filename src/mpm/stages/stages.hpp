@@ -34,10 +34,9 @@ Stage filter_heat_stage(State& s);
 template <class Shape>
 Stage remap_stage(State& s);
 Stage remap_velocity_stage(State& s);
-// 7a. strain and spin increments, density (Eqs. 21, 23); APIC's C_p
+// 7a, 7b. strain and spin increments, density (Eqs. 21, 23), APIC's C_p; then the
+// constitutive update per material group (Eqs. 22, 35; EOS, strength, damage), chunk by chunk
 template <class Shape>
-Stage velocity_gradient_stage(State& s);
-// 7b. constitutive update per material group (Eqs. 22, 35; EOS, strength, damage)
 Stage constitutive_stage(State& s);
 // positions move only after steps 6-7, which need the shape functions at x^n
 Stage advance_positions_stage(State& s);

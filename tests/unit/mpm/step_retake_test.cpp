@@ -28,9 +28,10 @@ class Stiffening final : public MaterialModel {
     for (std::size_t p = r.begin; p < r.end; ++p) P.col(Field::soundspeed)[p] = kLow;
   }
   void update(ParticleStore& P, Range r, const ConstitutiveContext& ctx) const override {
+    const IncrementViews inc = increments_of(P, ctx);
     for (std::size_t p = r.begin; p < r.end; ++p) {
-      const double tr =
-          P.col(Field::deps_xx)[p] + P.col(Field::deps_yy)[p] + P.col(Field::deps_zz)[p];
+      const std::size_t q = p - inc.begin;
+      const double tr = inc.deps[0][q] + inc.deps[1][q] + inc.deps[2][q];
       // Compression rate above 1e-3 /s: far above the round-off of a translating body (~1e-12
       // /s), far below that of contact at 100 m/s on 0.1 m cells (~1e3 /s).
       P.col(Field::soundspeed)[p] = -tr / ctx.dt > 1e-3 ? kHigh : kLow;
@@ -113,9 +114,10 @@ class StiffeningWithState final : public MaterialModel {
   }
   void update(ParticleStore& P, Range r, const ConstitutiveContext& ctx) const override {
     Stiffening{}.update(P, r, ctx);
+    const IncrementViews inc = increments_of(P, ctx);
     for (std::size_t p = r.begin; p < r.end; ++p) {
-      const double tr =
-          P.col(Field::deps_xx)[p] + P.col(Field::deps_yy)[p] + P.col(Field::deps_zz)[p];
+      const std::size_t q = p - inc.begin;
+      const double tr = inc.deps[0][q] + inc.deps[1][q] + inc.deps[2][q];
       P.col(Field::plastic_strain)[p] += P.col(Field::eps_min)[p] * std::abs(tr);
     }
   }
