@@ -56,11 +56,11 @@ TEST(CheckStages, FlipWithOutflowFacesIsTheMuslStep) {
   // tiny.toml: FLIP (the default), single-field contact, outflow faces.
   const Listed l = stages_of({});
   ASSERT_EQ(l.code, 0) << l.out;
-  EXPECT_EQ(l.stages, (Names{"sort", "p2g", "grid_update", "g2p", "remap", "remap_velocity",
-                             "velocity_gradient", "constitutive", "advance_positions", "outflow",
-                             "energy", "time_step"}))
+  EXPECT_EQ(l.stages,
+            (Names{"sort", "p2g", "grid_update", "g2p", "remap", "remap_velocity", "constitutive",
+                   "advance_positions", "outflow", "energy", "time_step"}))
       << l.out;
-  EXPECT_NE(l.out.find("on 1 rank, 12 stages"), std::string::npos) << l.out;
+  EXPECT_NE(l.out.find("on 1 rank, 11 stages"), std::string::npos) << l.out;
   EXPECT_NE(l.out.find("grid_update  (contact: single_field)"), std::string::npos) << l.out;
   EXPECT_NE(l.out.find("memory: ~"), std::string::npos) << "the check's estimate comes first";
 }
@@ -69,8 +69,8 @@ TEST(CheckStages, XpicFiltersBeforeG2pAndKeepsTheRemap) {
   const Listed l = stages_of({"solver.transfer=\"xpic\"", "solver.xpic_order=2"});
   ASSERT_EQ(l.code, 0) << l.out;
   EXPECT_EQ(l.stages, (Names{"sort", "p2g", "grid_update", "xpic", "xpic_nodes", "g2p", "remap",
-                             "remap_velocity", "velocity_gradient", "constitutive",
-                             "advance_positions", "outflow", "energy", "time_step"}))
+                             "remap_velocity", "constitutive", "advance_positions", "outflow",
+                             "energy", "time_step"}))
       << l.out;
   EXPECT_NE(l.out.find("xpic  (transfer: xpic)"), std::string::npos) << l.out;
 }
@@ -104,11 +104,11 @@ TEST(CheckStages, TwoRanksAddTheMigrationAndAHaloExchangeAfterEachScatter) {
   const Listed l = stages_on_two_ranks({});
   ASSERT_EQ(l.code, 0) << l.out;
   EXPECT_EQ(l.stages, (Names{"migrate", "sort", "p2g", "halo", "grid_update", "g2p", "remap",
-                             "halo_remap", "remap_velocity", "velocity_gradient", "constitutive",
-                             "advance_positions", "outflow", "energy", "time_step"}))
+                             "halo_remap", "remap_velocity", "constitutive", "advance_positions",
+                             "outflow", "energy", "time_step"}))
       << "rank 0 alone prints:\n"
       << l.out;
-  EXPECT_NE(l.out.find("on 2 ranks, 15 stages"), std::string::npos) << l.out;
+  EXPECT_NE(l.out.find("on 2 ranks, 14 stages"), std::string::npos) << l.out;
 }
 
 TEST(CheckStages, TwoRanksExchangeAfterEachFilterPass) {
@@ -129,7 +129,6 @@ TEST(CheckStages, TwoRanksExchangeAfterEachFilterPass) {
                              "remap",
                              "halo_remap",
                              "remap_velocity",
-                             "velocity_gradient",
                              "constitutive",
                              "advance_positions",
                              "outflow",
