@@ -105,9 +105,10 @@ def main():
     if args.plot:
         fig, ax = pc.subplots(figsize=(6.5, 4.2))
         for i, (name, ts) in enumerate(curves):
-            ax.plot([r[0] * 1e3 for r in ts], [r[1] for r in ts], f"C{i}", label=name)
+            ax.plot([r[0] * 1e3 for r in ts], [r[1] for r in ts], f"C{i}", label=name,
+                    lw=2.0 if "3d" in name.lower() else 1.0)
         pc.label(ax, "t_ms", "beta_launch")
-        ax.set_title("raducan2019-10kpa, 3 x 3 m target, CPPR 3: r-z vs 3-D half model",
+        ax.set_title("raducan2019-10kpa, 3 x 3 m target: r-z vs 3-D half model (thick)",
                      fontsize=9)
         pc.legend(ax)
         pc.save(fig, args.plot)
