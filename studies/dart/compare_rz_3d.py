@@ -41,8 +41,8 @@ def last_row(run):
     return rows[-1]
 
 
-def points(run):
-    """Points in the run: the count of the last snapshot's particle table (tools/crater.py)."""
+def crater_last(run):
+    """The crater row of the last snapshot (tools/crater.py): depth, diameter, points in it."""
     import importlib.util
     spec = importlib.util.spec_from_file_location(
         "shatter_tool_crater", os.path.join(HERE, "..", "..", "tools", "crater.py"))
@@ -65,7 +65,7 @@ def main():
         spec, _, label = spec.partition("=")
         run, _, cpu = spec.partition(":")
         out, ts, (m_imp, u, launches) = cr.measures(run)
-        crater = points(run)
+        crater = crater_last(run)
         last = last_row(run)
         row = {"run": label or os.path.basename(run.rstrip("/"))}
         for t in args.times:
