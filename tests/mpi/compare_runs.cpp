@@ -15,6 +15,7 @@
 #include <fstream>
 #include <numeric>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -34,14 +35,63 @@ std::vector<std::size_t> id_order(const ParticleStore& P) {
   return o;
 }
 
-std::string compare_stores(const ParticleStore& a, const ParticleStore& b) {
+// Which columns take part: all (strict), all but the named ones, or those both files hold.
+struct ColumnFilter {
+  std::vector<std::string> ignored;
+  bool common_only = false;
+
+  bool ignores(std::string_view name) const {
+    return std::find(ignored.begin(), ignored.end(), name) != ignored.end();
+  }
+  // "" when the column is compared (both hold it), else why not, or an error.
+  template <class F>
+  std::string skip(const ParticleStore& a, const ParticleStore& b, F f, bool& error) const {
+    error = false;
+    if (ignores(name_of(f))) return "ignored";
+    if (a.has(f) == b.has(f)) return a.has(f) ? "" : "absent";
+    error = !common_only;
+    return fmt::format("column {} in {} only", name_of(f), a.has(f) ? "A" : "B");
+  }
+};
+
+bool known_column(std::string_view name) {
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    if (name_of(static_cast<IField>(i)) == name) return true;
+  }
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    if (name_of(static_cast<Field>(i)) == name) return true;
+  }
+  return false;
+}
+
+// Lists (once) the columns one file holds and the other does not, under --common-columns.
+std::string one_file_columns(const ParticleStore& a, const ParticleStore& b) {
+  std::string out;
+  auto add = [&](std::string_view name, bool in_a) {
+    out += fmt::format("{}{} ({})", out.empty() ? "" : ", ", name, in_a ? "A" : "B");
+  };
+  for (std::size_t i = 0; i < kIFieldCount; ++i) {
+    const auto f = static_cast<IField>(i);
+    if (a.has(f) != b.has(f)) add(name_of(f), a.has(f));
+  }
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    if (a.has(f) != b.has(f)) add(name_of(f), a.has(f));
+  }
+  return out;
+}
+
+std::string compare_stores(const ParticleStore& a, const ParticleStore& b,
+                           const ColumnFilter& filter) {
   if (a.size() != b.size()) return fmt::format("{} vs {} particles", a.size(), b.size());
   if (a.size() == 0) return "no particles";
   const auto oa = id_order(a), ob = id_order(b);
+  bool error = false;
   for (std::size_t i = 0; i < kIFieldCount; ++i) {
     const auto f = static_cast<IField>(i);
-    if (a.has(f) != b.has(f)) return fmt::format("column {} in one file only", name_of(f));
-    if (!a.has(f)) continue;
+    const auto why = filter.skip(a, b, f, error);
+    if (error) return why;
+    if (!why.empty()) continue;
     for (std::size_t k = 0; k < oa.size(); ++k) {
       if (a.col(f)[oa[k]] != b.col(f)[ob[k]]) {
         return fmt::format("{}: row {} (by id) {} vs {}", name_of(f), k, a.col(f)[oa[k]],
@@ -51,8 +101,9 @@ std::string compare_stores(const ParticleStore& a, const ParticleStore& b) {
   }
   for (std::size_t i = 0; i < kFieldCount; ++i) {
     const auto f = static_cast<Field>(i);
-    if (a.has(f) != b.has(f)) return fmt::format("column {} in one file only", name_of(f));
-    if (!a.has(f)) continue;
+    const auto why = filter.skip(a, b, f, error);
+    if (error) return why;
+    if (!why.empty()) continue;
     std::size_t bad = 0, first = 0;
     for (std::size_t k = 0; k < oa.size(); ++k) {
       if (std::bit_cast<std::uint64_t>(a.col(f)[oa[k]]) !=
@@ -123,13 +174,38 @@ void report(const ParticleStore& a, const ParticleStore& b) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool want_report = argc == 4 && std::string(argv[3]) == "--report";
-  if (argc != 3 && !want_report) {
+  std::vector<std::string> paths;
+  bool want_report = false;
+  ColumnFilter filter;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--report") {
+      want_report = true;
+    } else if (arg == "--common-columns") {
+      filter.common_only = true;
+    } else if (arg == "--ignore-column" && i + 1 < argc) {
+      filter.ignored.emplace_back(argv[++i]);
+    } else if (arg.starts_with("--")) {
+      paths.clear();
+      break;
+    } else {
+      paths.push_back(arg);
+    }
+  }
+  for (const auto& name : filter.ignored) {
+    if (!known_column(name)) {
+      fmt::print(stderr, "compare_runs: --ignore-column {}: no such column\n", name);
+      return 2;
+    }
+  }
+  if (paths.size() != 2) {
     fmt::print(stderr,
-               "usage: compare_runs RUN_A RUN_B [--report] (run directories or checkpoints)\n");
+               "usage: compare_runs RUN_A RUN_B [--report] [--ignore-column NAME]... "
+               "[--common-columns]\n  (run directories or checkpoints; by default every "
+               "column must be held by both)\n");
     return 2;
   }
-  const fs::path a = argv[1], b = argv[2];
+  const fs::path a = paths[0], b = paths[1];
   const bool dirs = fs::is_directory(a) && fs::is_directory(b);
   try {
     const auto ca = io::read_checkpoint(dirs ? a / "checkpoint.h5" : a);
@@ -138,7 +214,7 @@ int main(int argc, char** argv) {
       report(ca.particles, cb.particles);
     }
     std::string err = compare_state(ca.state, cb.state);
-    if (err.empty()) err = compare_stores(ca.particles, cb.particles);
+    if (err.empty()) err = compare_stores(ca.particles, cb.particles, filter);
     if (err.empty() && dirs) {
       const auto ra = rows(a / "timeseries.csv"), rb = rows(b / "timeseries.csv");
       if (ra.size() != rb.size())
@@ -151,8 +227,10 @@ int main(int argc, char** argv) {
       fmt::print("DIFFERENT {} {}: {}\n", a.string(), b.string(), err);
       return 1;
     }
-    fmt::print("bitwise equal: {} {} ({} particles, step {})\n", a.string(), b.string(),
-               ca.particles.size(), ca.state.clock.step);
+    const auto skipped = filter.common_only ? one_file_columns(ca.particles, cb.particles) : "";
+    fmt::print("bitwise equal: {} {} ({} particles, step {}){}\n", a.string(), b.string(),
+               ca.particles.size(), ca.state.clock.step,
+               skipped.empty() ? std::string{} : "; not compared, in one file only: " + skipped);
   } catch (const std::exception& e) {
     fmt::print(stderr, "compare_runs: {}\n", e.what());
     return 2;
