@@ -32,15 +32,38 @@ std::size_t SparseGrid::bytes() const {
       blocks() * (sizeof(std::uint64_t) + sizeof(Coord) + 8 * sizeof(std::uint32_t) +
                   sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t) /* hash entry, approx */);
   const std::size_t particle_bytes = (particles_.size() + owner_.size()) * sizeof(std::uint32_t) +
-                                     last_keys_.size() * sizeof(std::uint64_t);
+                                     last_bodies_.size() * sizeof(std::int64_t);
   return node_bytes + block_bytes + particle_bytes;
 }
 
+// The last assign's input, read back from what it built instead of kept as copies (16 B per
+// particle): the owner key of particle p is block_keys_[owner_[p]] (owner_ indexes the shared
+// blocks, which are block_keys_ in order), and the ids enter only through the order of each
+// block's list, by (body, id). With the same keys and bodies, a rebuild gives the same lists
+// exactly when every list is strictly ascending in (body, id) under the ids given now: a strict
+// order has one sorted arrangement. (A list with equal (body, id) pairs is rebuilt.)
 bool SparseGrid::same_input(std::span<const std::uint64_t> owner_keys,
                             std::span<const std::int64_t> bodies,
                             std::span<const std::int64_t> ids) const {
-  return std::ranges::equal(owner_keys, last_keys_) && std::ranges::equal(bodies, last_bodies_) &&
-         std::ranges::equal(ids, last_ids_);
+  const std::size_t n = owner_keys.size();
+  if (n != owner_.size() || ids.empty() != last_ids_empty_ ||
+      !std::ranges::equal(bodies, last_bodies_)) {
+    return false;
+  }
+  for (std::size_t p = 0; p < n; ++p) {
+    if (block_keys_[owner_[p]] != owner_keys[p]) return false;
+  }
+  if (ids.empty()) return true;
+  const auto before = [&](std::uint32_t a, std::uint32_t c) {
+    if (!bodies.empty() && bodies[a] != bodies[c]) return bodies[a] < bodies[c];
+    return ids[a] < ids[c];
+  };
+  for (std::size_t b = 0; b + 1 < start_.size(); ++b) {
+    for (std::uint32_t k = start_[b] + 1; k < start_[b + 1]; ++k) {
+      if (!before(particles_[k - 1], particles_[k])) return false;
+    }
+  }
+  return true;
 }
 
 // Allocated blocks: owners and the blocks their stencils spill into (+{0,1}^3), in key order.
@@ -136,9 +159,8 @@ void SparseGrid::size_nodes() {
 bool SparseGrid::assign(std::span<const std::uint64_t> owner_keys,
                         std::span<const std::int64_t> bodies, std::span<const std::int64_t> ids) {
   if (same_input(owner_keys, bodies, ids)) return false;
-  last_keys_.assign(owner_keys.begin(), owner_keys.end());
   last_bodies_.assign(bodies.begin(), bodies.end());
-  last_ids_.assign(ids.begin(), ids.end());
+  last_ids_empty_ = ids.empty();
 
   // Owner blocks: particles are mostly block-sorted, so collecting the keys where the key changes
   // along the particle order gives a short list to sort.

@@ -139,7 +139,6 @@ class SparseGrid {
   void link_copies(std::span<const std::int64_t> bodies, const std::vector<std::uint32_t>& bstart,
                    const std::vector<std::int64_t>& blist);
 
-  std::vector<std::uint64_t> last_keys_;
   std::vector<std::uint64_t> block_keys_;  // sorted
 
  public:
@@ -152,8 +151,10 @@ class SparseGrid {
   // 8 per shared block (valid for owner blocks), then 8 per (owner, body) of owners whose
   // stencils reach a block where bodies meet
   std::vector<std::uint32_t> neighbours_;
+  // What same_input cannot read back from the lists: the bodies (contact runs only) and
+  // whether ids were given; the keys and ids of the last assign are not kept (same_input).
   std::vector<std::int64_t> last_bodies_;
-  std::vector<std::int64_t> last_ids_;
+  bool last_ids_empty_ = true;
   std::array<std::vector<std::uint32_t>, kColours> colours_;
   std::vector<std::uint32_t> start_;      // CSR offsets per block
   std::vector<std::uint32_t> particles_;  // particle indices grouped by owner block

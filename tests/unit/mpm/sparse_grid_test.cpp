@@ -58,6 +58,61 @@ TEST(SparseGrid, ColoursNeverShareANode) {
   }
 }
 
+// assign() skips the rebuild when its input is the last one, read back from the lists it built
+// (no copy of the keys and ids): it must rebuild whenever a rebuild would give other lists, and
+// skip only when it would give the same ones.
+TEST(SparseGrid, RebuildsExactlyWhenTheListsWouldChange) {
+  // Two owner blocks, three particles each, ids not in store order.
+  const std::vector<std::uint64_t> keys{SparseGrid::key(0, 0, 0), SparseGrid::key(1, 0, 0),
+                                        SparseGrid::key(0, 0, 0), SparseGrid::key(1, 0, 0),
+                                        SparseGrid::key(0, 0, 0), SparseGrid::key(1, 0, 0)};
+  std::vector<std::int64_t> ids{50, 40, 30, 20, 10, 0};
+  const auto lists = [](const SparseGrid& g) {
+    return std::vector<std::uint32_t>(g.particle_order().begin(), g.particle_order().end());
+  };
+  SparseGrid g;
+  ASSERT_TRUE(g.assign(keys, {}, ids));
+  SparseGrid first;
+  ASSERT_TRUE(first.assign(keys, {}, ids));
+  EXPECT_EQ(lists(g), lists(first));
+  EXPECT_FALSE(g.assign(keys, {}, ids));  // same input
+  // Other ids that keep every list ascending: a rebuild would give the same lists.
+  std::vector<std::int64_t> same_order{9, 8, 7, 6, 5, 4};
+  EXPECT_FALSE(g.assign(keys, {}, same_order));
+  SparseGrid same;
+  ASSERT_TRUE(same.assign(keys, {}, same_order));
+  EXPECT_EQ(lists(g), lists(same));
+  // Ids that reorder one block's list: rebuilt, as a fresh grid builds it.
+  std::vector<std::int64_t> swapped{9, 8, 7, 6, 11, 4};
+  EXPECT_TRUE(g.assign(keys, {}, swapped));
+  SparseGrid fresh;
+  ASSERT_TRUE(fresh.assign(keys, {}, swapped));
+  EXPECT_EQ(lists(g), lists(fresh));
+  EXPECT_NE(lists(g), lists(first));
+  // Equal ids in one block: rebuilt (no unique order to read back).
+  std::vector<std::int64_t> tied{9, 8, 9, 6, 11, 4};
+  EXPECT_TRUE(g.assign(keys, {}, tied));
+  // One key moved: rebuilt; no ids after ids: rebuilt; then unchanged again.
+  std::vector<std::uint64_t> moved = keys;
+  moved[3] = SparseGrid::key(0, 0, 0);
+  EXPECT_TRUE(g.assign(moved, {}, tied));
+  EXPECT_TRUE(g.assign(moved));
+  EXPECT_FALSE(g.assign(moved));
+  EXPECT_TRUE(g.assign(moved, {}, tied));
+  // Other bodies: rebuilt.
+  const std::vector<std::int64_t> bodies{0, 0, 0, 1, 1, 1}, other{0, 0, 1, 1, 1, 1};
+  EXPECT_TRUE(g.assign(moved, bodies, swapped));
+  EXPECT_FALSE(g.assign(moved, bodies, swapped));
+  EXPECT_TRUE(g.assign(moved, other, swapped));
+  SparseGrid fresh_bodies;
+  ASSERT_TRUE(fresh_bodies.assign(moved, other, swapped));
+  EXPECT_EQ(lists(g), lists(fresh_bodies));
+  // Fewer particles: rebuilt.
+  moved.pop_back();
+  tied.pop_back();
+  EXPECT_TRUE(g.assign(moved, {}, tied));
+}
+
 TEST(Outflow, MaterialLeavingIsRemovedAndItsEnergyBooked) {
   ParticleStore s;
   test::add_box(s, 0, Vector3d(0, 0, 0), Vector3d(0.2, 0.2, 0.2), 0.025, 1000.0,
