@@ -1,6 +1,8 @@
 #include "mpm/driven.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <numeric>
 #include <stdexcept>
 
@@ -90,7 +92,7 @@ void DrivenBodies::hold(ParticleStore& P) const {
 }
 
 void DrivenBodies::set_particles(ParticleStore& P, double* dx, double* dy, double* dz,
-                                 double* kinetic, double dt) const {
+                                 std::uint64_t* kinetic, double dt) const {
   const auto body = P.col(IField::body);
   const auto id = P.col(IField::id);
   const auto mass = P.col(Field::mass);
@@ -104,7 +106,9 @@ void DrivenBodies::set_particles(ParticleStore& P, double* dx, double* dy, doubl
       V[d][p] = v[d];
       D[d][p] = v[d] * dt;
     }
-    kinetic[p] = 0.5 * mass[p] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    // The bits of the double, as G2P writes them (State::owner_keys, kinetic_word).
+    kinetic[p] =
+        std::bit_cast<std::uint64_t>(0.5 * mass[p] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
   }
 }
 

@@ -62,8 +62,9 @@ class DrivenBodies {
   // this to SphSolver::set_velocity_constraint).
   void hold(ParticleStore& P) const;
 
-  // After G2P: driven particles take v*_p, displacement v*_p dt, kinetic energy m |v*|^2 / 2.
-  void set_particles(ParticleStore& P, double* dx, double* dy, double* dz, double* kinetic,
+  // After G2P: driven particles take v*_p, displacement v*_p dt, kinetic energy m |v*|^2 / 2
+  // (`kinetic`: the bits of each particle's double, as G2P stores them).
+  void set_particles(ParticleStore& P, double* dx, double* dy, double* dz, std::uint64_t* kinetic,
                      double dt) const;
 
  private:

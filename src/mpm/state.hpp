@@ -4,6 +4,7 @@
 // reached through references, so a stage is a free function of this struct and nothing else.
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -40,18 +41,26 @@ struct StepSums {
   std::size_t failure_particle = 0;
 };
 
+// The kinetic energy at t^n in a word of State::owner_keys, and back (the same bits).
+inline std::uint64_t kinetic_word(double e) {
+  return std::bit_cast<std::uint64_t>(e);
+}
+inline double kinetic_of(std::uint64_t word) {
+  return std::bit_cast<double>(word);
+}
+
 // Per-particle scratch columns of one step (sized by the sort stage).
 struct Scratch {
   // Displacement over the step (G2P -> advance_positions); from advance_positions to the next
   // G2P, the positions at t^n (the buffers exchanged with the position columns), and the sort
   // stage's spare column for the re-order.
   AlignedVector<double> dx, dy, dz;
-  // Mechanical energy at t^n (G2P -> energy). The potential -m g.x is zero for every particle
+  // Potential energy at t^n (G2P -> energy). The potential -m g.x is zero for every particle
   // without gravity (the exact sum of zeros is zero): the column is then left empty (8 B per
-  // particle less) and the energy stage's sum over it is empty.
-  // (The kinetic energy of the velocity each particle scattered in this step's P2G, v^{n-1/2},
-  // is summed by G2P itself into StepSums::transferred: no column.)
-  AlignedVector<double> kinetic, potential;
+  // particle less) and the energy stage's sum over it is empty. (The kinetic energy at t^n
+  // shares State::owner_keys' words; that of the velocity each particle scattered in this
+  // step's P2G, v^{n-1/2}, is summed by G2P itself into StepSums::transferred: no column.)
+  AlignedVector<double> potential;
   // The plain FLIP velocity of the step (G2P -> filter_heat; SolverConfig::filter_heat only).
   AlignedVector<double> flip_vx, flip_vy, flip_vz;
   AlignedVector<double> bx, by, bz;    // body force per unit mass, when the scene has one
@@ -98,8 +107,12 @@ struct State {
   SparseGrid grid;
   StageGraph graph;
   tbb::task_arena arena;
-  std::vector<std::uint64_t> owner_keys;  // owner block key per particle (sort, migrate)
-  std::vector<std::uint32_t> order;       // the sort stage's re-order
+  // One 8-byte word per particle with two lives that never overlap (8 B per particle for both):
+  // the owner block key (compute_keys, in migration and the sort stage, read up to the grid's
+  // assign in the sort stage), then the particle's kinetic energy at t^n as the bits of a double
+  // (kinetic_word: written by G2P, outflow drops the departed rows, summed by the energy stage).
+  std::vector<std::uint64_t> owner_keys;
+  std::vector<std::uint32_t> order;  // the sort stage's re-order
   Scratch scratch;
   // Each particle's stencil (weights, gradients, offsets), stored by the sort stage and read by
   // every transfer of the step (kernels::StencilCache).

@@ -36,13 +36,14 @@ void g2p(State& s) {
   const double half_dt_prev = 0.5 * s.clock.dt_prev;
   const Vec3 g = s.config.gravity;
   double* const potential = sc.potential.empty() ? nullptr : sc.potential.data();
+  std::uint64_t* const kinetic = s.owner_keys.data();  // the keys' words (State::owner_keys)
   // Velocity at t^n, v^{n-1/2} + a dt^{n-1/2}/2, makes the kinetic energy time-centred with
   // the internal energy (second-order energy error).
   const double w = in.dt_velocity > 0 ? half_dt_prev / in.dt_velocity : 0.0;
   const auto energies = [&](std::size_t p, const double(&v0)[3]) {
     const double vn[3] = {v0[0] + w * (in.vx[p] - v0[0]), v0[1] + w * (in.vy[p] - v0[1]),
                           v0[2] + w * (in.vz[p] - v0[2])};
-    sc.kinetic[p] = 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
+    kinetic[p] = kinetic_word(0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]));
     if (potential == nullptr) return;  // no gravity: zero (Scratch)
     potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
   };
@@ -64,8 +65,7 @@ void g2p(State& s) {
   s.sums.transferred = parallel::ExactSum{};
   for (const parallel::ExactSum& t : transferred) s.sums.transferred.add(t);
   if (s.driven) {
-    s.driven->set_particles(P, sc.dx.data(), sc.dy.data(), sc.dz.data(), sc.kinetic.data(),
-                            s.dt_step);
+    s.driven->set_particles(P, sc.dx.data(), sc.dy.data(), sc.dz.data(), kinetic, s.dt_step);
     // A driven point's velocity is prescribed, not filtered: nothing of it is booked as heat.
     if (in.flip_vx != nullptr) {
       const auto id = P.col(IField::id);

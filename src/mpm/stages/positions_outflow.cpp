@@ -32,16 +32,18 @@ void advance_positions(State& s) {
 
 // The departed particles' rows of the per-particle mechanical energies are dropped so that the
 // energy sums match the remaining particles (the potential only where it is stored: Scratch).
-void drop_departed(Scratch& sc, const std::vector<std::uint8_t>& leaving) {
+void drop_departed(State& s, const std::vector<std::uint8_t>& leaving) {
+  Scratch& sc = s.scratch;
+  std::vector<std::uint64_t>& kinetic = s.owner_keys;  // the kinetic words (State::owner_keys)
   const bool potential = !sc.potential.empty();
   std::size_t k = 0;
   for (std::size_t p = 0; p < leaving.size(); ++p) {
     if (leaving[p]) continue;
-    sc.kinetic[k] = sc.kinetic[p];
+    kinetic[k] = kinetic[p];
     if (potential) sc.potential[k] = sc.potential[p];
     ++k;
   }
-  sc.kinetic.resize(k);
+  kinetic.resize(k);
   if (potential) sc.potential.resize(k);
 }
 
@@ -74,7 +76,7 @@ void outflow(State& s) {
   // internal sum one row later. Kinetic and potential energy are dropped from this step's sums
   // (drop_departed), so all three leave the budget in the step that books them as outflow.
   s.sums.carried_internal = carried_internal;
-  drop_departed(s.scratch, leaving);
+  drop_departed(s, leaving);
 }
 
 }  // namespace
