@@ -1,10 +1,13 @@
 #include "mpm/retake.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <utility>
 
 #include <tbb/parallel_for.h>
 
+#include "mpm/loops.hpp"
+#include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
 
 namespace shatter::mpm {
@@ -31,7 +34,15 @@ bool Journal::saves(const ParticleStore& P, Field f) const {
 }
 
 void Journal::save(const State& s) {
-  const ParticleStore& P = s.particles;
+  groups_ = s.particles.groups();
+  clock_ = s.clock;
+  energy_ = s.energy;
+  internal_next_ = s.internal_next;
+  columns_due_ = true;
+}
+
+void Journal::save_columns(const ParticleStore& P) {
+  columns_due_ = false;
   const std::size_t n = P.size();
   fields_.clear();
   for (std::size_t i = 0; i < kFieldCount; ++i) {
@@ -43,15 +54,10 @@ void Journal::save(const State& s) {
     const double* src = P.col(fields_[c]).data();
     std::copy(src + b, src + e, cols_[c].data() + b);
   });
-  groups_ = P.groups();
-  clock_ = s.clock;
-  energy_ = s.energy;
-  internal_next_ = s.internal_next;
 }
 
 void Journal::begin_attempt(ParticleStore& P, bool may_retake) {
   P.attach(may_retake ? this : nullptr);
-  order_ = {};
   swaps_.clear();
   whole_ = false;
   left_.clear();
@@ -63,7 +69,14 @@ void Journal::end_step(ParticleStore& P) {
 }
 
 void Journal::permuted(std::span<const std::uint32_t> order) {
-  order_ = order;  // State::order (see order_)
+  // The first attempt's sort (kept on a retake), or a store migration replaced (restored whole).
+  if (columns_due_ || whole_) return;
+  // A retaken attempt's sort (keys already sorted: the identity). Anything else would leave
+  // the saved columns in another order than the store's.
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (order[k] != k)
+      throw std::logic_error("step retake: the store was re-ordered after its save");
+  }
 }
 
 void Journal::restore(State& s) {
@@ -72,18 +85,12 @@ void Journal::restore(State& s) {
   if (whole_) {
     P = store_;  // taken before migration moved anything: the store at t^n
   } else {
-    // Undo in the reverse order of the step: the outflow removal, the exchanges of the position
-    // buffers (the store has its size before the removal again, the buffers' size), then the
-    // re-order, through the displacement buffer (dead again: Scratch).
+    // Undo in the reverse order of the step: the outflow removal, then the exchanges of the
+    // position buffers (the store has its size before the removal again, the buffers' size).
+    // The sort's re-order stays (see "When" in retake.hpp).
     if (!left_.empty()) undo_outflow(P);
     for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it)
       P.swap_column(it->first, *it->second);
-    if (!order_.empty()) {
-      std::vector<std::uint32_t> inverse(order_.size());
-      for (std::size_t k = 0; k < order_.size(); ++k)
-        inverse[order_[k]] = static_cast<std::uint32_t>(k);
-      P.permute(inverse, s.scratch.dx);
-    }
     copy_columns(fields_.size(), P.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
       const double* src = cols_[c].data();
       std::copy(src + b, src + e, P.col(fields_[c]).data() + b);
@@ -149,6 +156,14 @@ void Journal::undo_outflow(ParticleStore& P) const {
     if (P.has(f)) merge(B.col(f), std::as_const(P).col(f), left_irows_[i]);
   }
   P = std::move(B);
+}
+
+Stage retake_save_stage(State& s) {
+  // Reads every column; writes none (the journal is no stage's data): every later stage that
+  // writes a column waits for it, and P2G and the grid update, which only read, run beside it.
+  return {"retake_save", {all_fields(), 0}, {{}, 0}, [&s] {
+            if (s.journal.columns_due()) s.journal.save_columns(s.particles);
+          }};
 }
 
 }  // namespace shatter::mpm

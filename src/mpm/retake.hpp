@@ -36,11 +36,22 @@ constexpr FieldSet kStepLocal =
 // their buffers with the displacement scratch's (ParticleStore::swap_column), which then holds
 // x^n, and the restore exchanges them back (the journal is told of each exchange).
 constexpr FieldSet kSwappedOut = kPosition;
+//
+// When: the groups, clock and accounts before the first attempt (save); the columns in the
+// first attempt, after the sort stage (save_columns, a stage of its own: retake_save_stage), so
+// the copy is in the sorted order and a retake keeps the sort's re-order instead of undoing it.
+// The retaken attempt's sort then leaves the order as it is (a stable sort of keys already
+// sorted within each group is the identity), and every later stage sees the same store as in
+// an attempt from the unsorted one: the same bits, with no permutation kept for the retake
+// (4 B per particle).
 
 class Journal final : public LayoutJournal {
  public:
-  // Before the first attempt: the columns the step writes, the groups, clock and accounts.
+  // Before the first attempt: the groups, clock and accounts; the columns are then due.
   void save(const State& s);
+  // In the first attempt, after the sort: the columns the step writes (see "When" above).
+  void save_columns(const ParticleStore& P);
+  bool columns_due() const { return columns_due_; }
   // Before each attempt: when it may be retaken, the journal attaches to the store and records
   // the layout changes the stages make (ParticleStore tells it).
   void begin_attempt(ParticleStore& P, bool may_retake);
@@ -49,14 +60,17 @@ class Journal final : public LayoutJournal {
   // After the last attempt: detached; a store migration replaced is freed.
   void end_step(ParticleStore& P);
 
-  // LayoutJournal: the sort stage's re-order, outflow's removal, migration's replacement.
+  // LayoutJournal: outflow's removal, migration's replacement; the sort stage's re-order is
+  // kept (see "When"), and a re-order after the columns were saved must be the identity.
   void permuted(std::span<const std::uint32_t> order) override;
   void removing(const ParticleStore& P, std::span<const std::uint8_t> leaving) override;
   void replacing(ParticleStore& before) override;
   // advance_positions' exchange of a position column with its displacement buffer.
   void swapped(Field f, AlignedVector<double>& previous) override;
 
-  StageTiming timing{"retake_copy", 0.0};  // wall time of the saves and restores
+  // Wall time of the restores and of the save before each step (the columns' copy is the
+  // retake_save stage's).
+  StageTiming timing{"retake_restore", 0.0};
 
  private:
   bool saves(const ParticleStore& P, Field f) const;
@@ -68,9 +82,7 @@ class Journal final : public LayoutJournal {
   Clock clock_;
   EnergyBudget energy_;
   double internal_next_ = 0.0;
-  // The sort stage's re-order (empty: none), not a copy: the permutation the store was given,
-  // State::order, which the sort alone writes, once per attempt, and which outlives the attempt.
-  std::span<const std::uint32_t> order_;
+  bool columns_due_ = false;  // save_columns not yet called in this step
   // The columns exchanged with a buffer, which holds their values at the exchange, in order.
   std::vector<std::pair<Field, AlignedVector<double>*>> swaps_;
   // Outflow removed the particles flagged here (over the store before the removal; empty:

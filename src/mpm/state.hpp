@@ -112,7 +112,6 @@ struct State {
   // assign in the sort stage), then the particle's kinetic energy at t^n as the bits of a double
   // (kinetic_word: written by G2P, outflow drops the departed rows, summed by the energy stage).
   std::vector<std::uint64_t> owner_keys;
-  std::vector<std::uint32_t> order;  // the sort stage's re-order
   Scratch scratch;
   // Each particle's stencil (weights, gradients, offsets), stored by the sort stage and read by
   // every transfer of the step (kernels::StencilCache).

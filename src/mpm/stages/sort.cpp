@@ -20,16 +20,17 @@ template <class Shape>
 void reorder(State& s) {
   ParticleStore& P = s.particles;
   const std::size_t n = P.size();
-  s.order.resize(n);
-  std::iota(s.order.begin(), s.order.end(), 0U);
+  // Only for the re-order (4 B per particle in this stage): the step retake keeps the re-order
+  // rather than undoing it (retake.hpp), so nothing reads the permutation after the permute.
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0U);
   for (const Group& g : P.groups()) {
     std::stable_sort(
-        s.order.begin() + static_cast<std::ptrdiff_t>(g.range.begin),
-        s.order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
+        order.begin() + static_cast<std::ptrdiff_t>(g.range.begin),
+        order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
         [&](std::uint32_t a, std::uint32_t b) { return s.owner_keys[a] < s.owner_keys[b]; });
   }
-  // Through a dead buffer (Scratch); the retake journal keeps a view of s.order, not a copy.
-  P.permute(s.order, s.scratch.dx);
+  P.permute(order, s.scratch.dx);  // through a dead buffer (Scratch)
   compute_keys<Shape>(s);
 }
 
