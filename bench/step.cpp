@@ -19,6 +19,11 @@
 // interface; `single_field` and `multi_field` (solver.contact) on identical particles give the
 // cost of multi-velocity-field contact (grid copies where the bodies meet, the extra mass-gradient
 // scatter, the pair corrections) against the shared field.
+//
+// BM_StepScene/lab_impact_coarse: the step of scenes/lab-impact-coarse.toml (32 930 points;
+// Tillotson, hardening, Grady-Kipp damage, uGIMP), from its start, with the same counters as
+// BM_Step: the laboratory impact's memory per point, which carries the model's columns (plastic
+// strain, damage, flaws) and their retake copies on top of the elastic step's.
 #include <malloc.h>
 #include <unistd.h>
 
@@ -32,6 +37,8 @@
 
 #include "shatter/material/linear_elastic.hpp"
 #include "shatter/mpm/simulation.hpp"
+#include "shatter/scene/build.hpp"
+#include "shatter/scene/scene.hpp"
 #include "support/bodies.hpp"
 
 namespace {
@@ -142,6 +149,32 @@ void BM_StepContact(benchmark::State& state, ContactKind contact) {
   state.counters["blocks"] = static_cast<double>(sim.active_blocks());
 }
 
+void BM_StepScene(benchmark::State& state, const char* scene_file) {
+  const auto threads = static_cast<int>(state.range(0));
+  const double allocated0 = allocated_bytes();
+  std::unique_ptr<Solver> sim;
+  {
+    const scene::Scene sc =
+        scene::load_scene(std::string(SHATTER_SOURCE_DIR) + "/scenes/" + scene_file);
+    scene::BuiltScene built = scene::build(sc);
+    sim = scene::make_solver(sc, std::move(built.particles), std::move(built.materials), threads);
+  }
+  sim->step();
+  const std::vector<StageTiming> before = sim->stage_timings();
+  for (auto _ : state) sim->step();
+  const std::vector<StageTiming>& after = sim->stage_timings();
+  const double n = static_cast<double>(sim->particles().size());
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(sim->particles().size()));
+  state.counters["allocated_bytes/particle"] = (allocated_bytes() - allocated0) / n;
+  state.counters["retakes"] = static_cast<double>(sim->retakes());
+  const double steps = static_cast<double>(state.iterations());
+  for (std::size_t s = 0; s < after.size(); ++s) {
+    state.counters[after[s].name + "_ns"] =
+        1e9 * (after[s].seconds - before[s].seconds) / (steps * n);
+  }
+}
+
 void steps(benchmark::internal::Benchmark* b) {
   bench::sizes_and_threads(b);
 }
@@ -154,5 +187,13 @@ BENCHMARK_CAPTURE(BM_Step, bspline2, ShapeKind::bspline2)->Apply(steps);
 
 BENCHMARK_CAPTURE(BM_StepContact, single_field, ContactKind::single_field)->Apply(steps);
 BENCHMARK_CAPTURE(BM_StepContact, multi_field, ContactKind::multi_field)->Apply(steps);
+
+BENCHMARK_CAPTURE(BM_StepScene, lab_impact_coarse, "lab-impact-coarse.toml")
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
