@@ -6,8 +6,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include "mpm/loops.hpp"
-#include "mpm/stages/stages.hpp"
 #include "mpm/state.hpp"
 
 namespace shatter::mpm {
@@ -156,14 +154,6 @@ void Journal::undo_outflow(ParticleStore& P) const {
     if (P.has(f)) merge(B.col(f), std::as_const(P).col(f), left_irows_[i]);
   }
   P = std::move(B);
-}
-
-Stage retake_save_stage(State& s) {
-  // Reads every column; writes none (the journal is no stage's data): every later stage that
-  // writes a column waits for it, and P2G and the grid update, which only read, run beside it.
-  return {"retake_save", {all_fields(), 0}, {{}, 0}, [&s] {
-            if (s.journal.columns_due()) s.journal.save_columns(s.particles);
-          }};
 }
 
 }  // namespace shatter::mpm

@@ -38,8 +38,8 @@ constexpr FieldSet kStepLocal =
 constexpr FieldSet kSwappedOut = kPosition;
 //
 // When: the groups, clock and accounts before the first attempt (save); the columns in the
-// first attempt, after the sort stage (save_columns, a stage of its own: retake_save_stage), so
-// the copy is in the sorted order and a retake keeps the sort's re-order instead of undoing it.
+// first attempt, at the end of the sort stage (save_columns, called there), so the copy is in
+// the sorted order and a retake keeps the sort's re-order instead of undoing it.
 // The retaken attempt's sort then leaves the order as it is (a stable sort of keys already
 // sorted within each group is the identity), and every later stage sees the same store as in
 // an attempt from the unsorted one: the same bits, with no permutation kept for the retake
@@ -68,9 +68,9 @@ class Journal final : public LayoutJournal {
   // advance_positions' exchange of a position column with its displacement buffer.
   void swapped(Field f, AlignedVector<double>& previous) override;
 
-  // Wall time of the restores and of the save before each step (the columns' copy is the
-  // retake_save stage's).
-  StageTiming timing{"retake_restore", 0.0};
+  // Wall time of the restores (and of save's few scalars); the columns' copy is timed with the
+  // sort stage, whose end makes it.
+  StageTiming timing{"retake_copy", 0.0};
 
  private:
   bool saves(const ParticleStore& P, Field f) const;

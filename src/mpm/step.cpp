@@ -23,7 +23,6 @@ void add_stages(State& s) {
   StageGraph& g = s.graph;
   if (s.dist()) g.add(parallel::migrate_stage<Shape>(s));        // 0. particles to their owner rank
   g.add(sort_stage<Shape>(s));                                   // 1. sort by block, stencils
-  if (s.config.retake_ratio > 0.0) g.add(retake_save_stage(s));  // 1a. the retake's copy
   g.add(p2g_stage<Shape>(s));                                    // 1, 3. P2G (Eqs. 29, 32, 33)
   if (s.dist()) g.add(parallel::halo_stage(s));                  // 1b. node sums over ranks
   if (s.config.self_gravity.self) g.add(self_gravity_stage(s));  // 1c. nodal self-gravity
@@ -49,7 +48,7 @@ void build_stages(State& s) {
   with_shape(s.config.shape, [&]<class Shape>() { add_stages<Shape>(s); });
 }
 
-// The graph's stage timings, then the retake's copies, which Simulation::step makes outside the
+// The graph's stage timings, then the retake's restores, which Simulation::step makes outside the
 // graph (Simulation::stage_timings).
 void refresh_timings(State& s) {
   const std::vector<StageTiming>& graph = s.graph.timings();
@@ -71,7 +70,7 @@ void Simulation::step() {
   // when the stable step of the state left is shorter than the step taken by more than
   // retake_ratio, the step is taken again with that shorter step. The decision compares two
   // exact maxima (Eq. 34), so it is the same on any thread count. Cost: one copy per step of the
-  // columns the step writes, made after the sort (the retake_save stage; docs/stability.md,
+  // columns the step writes, made at the end of the sort stage (docs/stability.md,
   // docs/performance.md); the journal (retake.hpp) undoes the attempt's outflow removals and
   // migration and keeps its re-order, so a retaken step computes the bits it computed before
   // (StepRetake.RetakeRestoresTheStateBitwise).

@@ -83,6 +83,9 @@ void sort(State& s) {
                       });
   }
   if (s.driven) s.driven->scatter<Shape>(P, s.grid, s.stencil_rows<Shape>(), ih);
+  // The step retake's copy of the columns the step writes, in the sorted order, in the first
+  // attempt (retake.hpp, "When"); before any stage that writes them.
+  if (s.journal.columns_due()) s.journal.save_columns(P);
 }
 
 // kAxisymmetric: the y stencil is the node y = 0 alone (kernels::store_stencils), in block 0.

@@ -16,9 +16,6 @@ Stage sort_stage(State& s);
 // 1, 3. scatter mass, momentum and internal force to the grid (Eqs. 29, 32, 33)
 template <class Shape>
 Stage p2g_stage(State& s);
-// 1a. the step retake's copy of the columns the step writes, after the sort (retake.hpp; only
-// where retakes are on)
-Stage retake_save_stage(State& s);
 // 1c. self-gravity of the nodes' mass, as a nodal body force (gravity.self; stages/gravity.cpp)
 Stage self_gravity_stage(State& s);
 // 2, 3, 4. boundary conditions and the momentum update on the grid (Eq. 27)

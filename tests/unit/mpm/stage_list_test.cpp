@@ -31,28 +31,17 @@ SolverConfig base() {
 }
 
 TEST(StageList, FlipIsTheMuslStepOfAppendixA2) {
-  EXPECT_EQ(stages_of(base()),
-            (std::vector<std::string>{"sort", "retake_save", "p2g", "grid_update", "g2p", "remap",
-                                      "remap_velocity", "constitutive", "advance_positions",
-                                      "energy", "time_step"}));
-}
-
-// The step retake's copy of the columns is a stage after the sort (retake.hpp), only where
-// retakes are on.
-TEST(StageList, NoRetakeCopyWithoutRetakes) {
-  SolverConfig cfg = base();
-  cfg.retake_ratio = 0.0;
-  EXPECT_EQ(stages_of(cfg), (std::vector<std::string>{"sort", "p2g", "grid_update", "g2p", "remap",
-                                                      "remap_velocity", "constitutive",
-                                                      "advance_positions", "energy", "time_step"}));
+  EXPECT_EQ(stages_of(base()), (std::vector<std::string>{
+                                   "sort", "p2g", "grid_update", "g2p", "remap", "remap_velocity",
+                                   "constitutive", "advance_positions", "energy", "time_step"}));
 }
 
 TEST(StageList, ApicHasNoRemap) {
   SolverConfig cfg = base();
   cfg.transfer = TransferKind::apic;
   EXPECT_EQ(stages_of(cfg),
-            (std::vector<std::string>{"sort", "retake_save", "p2g", "grid_update", "g2p",
-                                      "constitutive", "advance_positions", "energy", "time_step"}));
+            (std::vector<std::string>{"sort", "p2g", "grid_update", "g2p", "constitutive",
+                                      "advance_positions", "energy", "time_step"}));
 }
 
 // Issue 35: the strain and spin increments live in the constitutive stage's chunk buffers; a
@@ -77,17 +66,17 @@ TEST(StageList, XpicAndFmpmFilterBeforeG2pFromOrderTwo) {
   cfg.xpic_order = 3;
   // Two passes (m - 1), each its scatter and its nodal update, between grid_update and g2p.
   const std::vector<std::string> xpic = stages_of(cfg);
-  ASSERT_GE(xpic.size(), 9u);
+  ASSERT_GE(xpic.size(), 8u);
   EXPECT_EQ(
-      std::vector<std::string>(xpic.begin() + 3, xpic.begin() + 9),
+      std::vector<std::string>(xpic.begin() + 2, xpic.begin() + 8),
       (std::vector<std::string>{"grid_update", "xpic", "xpic_nodes", "xpic", "xpic_nodes", "g2p"}));
   cfg.xpic_order = 1;  // XPIC(1) is PIC: no extra pass, no filter stage
   EXPECT_EQ(stages_of(cfg).size(), stages_of(base()).size());
   cfg.transfer = TransferKind::fmpm;
   cfg.fmpm_order = 4;
   const std::vector<std::string> fmpm = stages_of(cfg);
-  EXPECT_EQ(fmpm[4], "fmpm");
-  EXPECT_EQ(fmpm[5], "fmpm_nodes");
+  EXPECT_EQ(fmpm[3], "fmpm");
+  EXPECT_EQ(fmpm[4], "fmpm_nodes");
   EXPECT_EQ(std::count(fmpm.begin(), fmpm.end(), "fmpm_nodes"), 3) << "k - 1 passes";
 }
 
