@@ -1,7 +1,6 @@
 #include "mpm/driven.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <numeric>
 #include <stdexcept>
@@ -91,13 +90,15 @@ void DrivenBodies::hold(ParticleStore& P) const {
   }
 }
 
-void DrivenBodies::set_particles(ParticleStore& P, double* dx, double* dy, double* dz,
-                                 std::uint64_t* kinetic, double dt) const {
+parallel::ExactSum DrivenBodies::set_particles(ParticleStore& P, double* dx, double* dy, double* dz,
+                                               double dt, const Boundaries* outflow) const {
   const auto body = P.col(IField::body);
   const auto id = P.col(IField::id);
   const auto mass = P.col(Field::mass);
   double* V[3] = {P.col(Field::vx).data(), P.col(Field::vy).data(), P.col(Field::vz).data()};
   double* D[3] = {dx, dy, dz};
+  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
+  parallel::ExactSum kinetic;
   for (std::size_t p = 0; p < P.size(); ++p) {
     if (!driven(body[p])) continue;
     const double* v = velocity(id[p]);
@@ -106,10 +107,14 @@ void DrivenBodies::set_particles(ParticleStore& P, double* dx, double* dy, doubl
       V[d][p] = v[d];
       D[d][p] = v[d] * dt;
     }
-    // The bits of the double, as G2P writes them (State::owner_keys, kinetic_word).
-    kinetic[p] =
-        std::bit_cast<std::uint64_t>(0.5 * mass[p] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+    // Out of the sum where the point leaves (the outflow stage's test: dx + x past a face).
+    if (outflow != nullptr &&
+        outflow->outside_outflow(Vec3(D[0][p] + X[0][p], D[1][p] + X[1][p], D[2][p] + X[2][p]))) {
+      continue;
+    }
+    kinetic.add(0.5 * mass[p] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
   }
+  return kinetic;
 }
 
 }  // namespace shatter::mpm

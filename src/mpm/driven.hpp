@@ -31,6 +31,8 @@
 #include "mpm/stencil.hpp"
 #include "shatter/core/particles.hpp"
 #include "shatter/grid/sparse_grid.hpp"
+#include "shatter/mpm/boundaries.hpp"
+#include "shatter/parallel/exact_sum.hpp"
 
 namespace shatter::mpm {
 
@@ -62,10 +64,16 @@ class DrivenBodies {
   // this to SphSolver::set_velocity_constraint).
   void hold(ParticleStore& P) const;
 
-  // After G2P: driven particles take v*_p, displacement v*_p dt, kinetic energy m |v*|^2 / 2
-  // (`kinetic`: the bits of each particle's double, as G2P stores them).
-  void set_particles(ParticleStore& P, double* dx, double* dy, double* dz, std::uint64_t* kinetic,
-                     double dt) const;
+  // After G2P: driven particles take v*_p and displacement v*_p dt. Returns the exact sum of
+  // their kinetic energies m |v*|^2 / 2, less those that leave through an outflow face of
+  // `outflow` (x + dx past it; null: none), as G2P sums the others'.
+  parallel::ExactSum set_particles(ParticleStore& P, double* dx, double* dy, double* dz, double dt,
+                                   const Boundaries* outflow) const;
+
+  // A point whose velocity is prescribed: of a driven body, with a recorded velocity.
+  bool prescribed(std::int64_t body, std::int64_t id) const {
+    return driven(body) && velocity(id) != nullptr;
+  }
 
  private:
   bool driven(std::int64_t body) const;

@@ -1,6 +1,7 @@
 #include "mpm/retake.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <utility>
 
@@ -39,7 +40,7 @@ void Journal::save(const State& s) {
   columns_due_ = true;
 }
 
-void Journal::save_columns(const ParticleStore& P) {
+void Journal::save_columns(const ParticleStore& P, std::vector<std::uint64_t>& lent) {
   columns_due_ = false;
   const std::size_t n = P.size();
   fields_.clear();
@@ -47,10 +48,14 @@ void Journal::save_columns(const ParticleStore& P) {
     if (saves(P, static_cast<Field>(i))) fields_.push_back(static_cast<Field>(i));
   }
   cols_.resize(fields_.size());
+  if (!cols_.empty()) {
+    cols_[0] = std::move(lent);  // given back by end_step
+    lent_out_ = true;
+  }
   for (auto& c : cols_) c.resize(n);  // reuses the buffers of the last step
   copy_columns(fields_.size(), n, [&](std::size_t c, std::size_t b, std::size_t e) {
     const double* src = P.col(fields_[c]).data();
-    std::copy(src + b, src + e, cols_[c].data() + b);
+    if (e > b) std::memcpy(cols_[c].data() + b, src + b, (e - b) * sizeof(double));
   });
 }
 
@@ -61,8 +66,12 @@ void Journal::begin_attempt(ParticleStore& P, bool may_retake) {
   left_.clear();
 }
 
-void Journal::end_step(ParticleStore& P) {
+void Journal::end_step(ParticleStore& P, std::vector<std::uint64_t>& lent) {
   P.attach(nullptr);
+  // The owner keys' buffer back (a retaken attempt's sort gave the keys a new one meanwhile,
+  // freed here).
+  if (lent_out_) lent = std::move(cols_[0]);
+  lent_out_ = false;
   store_ = ParticleStore{};  // a store migration replaced is freed, as it was before
 }
 
@@ -90,8 +99,7 @@ void Journal::restore(State& s) {
     for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it)
       P.swap_column(it->first, *it->second);
     copy_columns(fields_.size(), P.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
-      const double* src = cols_[c].data();
-      std::copy(src + b, src + e, P.col(fields_[c]).data() + b);
+      if (e > b) std::memcpy(P.col(fields_[c]).data() + b, cols_[c].data() + b, (e - b) * 8);
     });
   }
   s.clock = clock_;

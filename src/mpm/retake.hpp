@@ -49,16 +49,19 @@ class Journal final : public LayoutJournal {
  public:
   // Before the first attempt: the groups, clock and accounts; the columns are then due.
   void save(const State& s);
-  // In the first attempt, after the sort: the columns the step writes (see "When" above).
-  void save_columns(const ParticleStore& P);
+  // In the first attempt, after the sort: the columns the step writes (see "When" above). The
+  // first goes into `lent`'s buffer (the owner keys, dead from there to the step's end: 8 B per
+  // point less), which end_step gives back.
+  void save_columns(const ParticleStore& P, std::vector<std::uint64_t>& lent);
   bool columns_due() const { return columns_due_; }
   // Before each attempt: when it may be retaken, the journal attaches to the store and records
   // the layout changes the stages make (ParticleStore tells it).
   void begin_attempt(ParticleStore& P, bool may_retake);
   // The state at t^n again, with every layout change of the attempt undone.
   void restore(State& s);
-  // After the last attempt: detached; a store migration replaced is freed.
-  void end_step(ParticleStore& P);
+  // After the last attempt: detached; a store migration replaced is freed; the buffer lent by
+  // save_columns back to `lent`.
+  void end_step(ParticleStore& P, std::vector<std::uint64_t>& lent);
 
   // LayoutJournal: outflow's removal, migration's replacement; the sort stage's re-order is
   // kept (see "When"), and a re-order after the columns were saved must be the identity.
@@ -76,13 +79,16 @@ class Journal final : public LayoutJournal {
   bool saves(const ParticleStore& P, Field f) const;
   void undo_outflow(ParticleStore& P) const;
 
-  std::vector<Field> fields_;                // registered columns the step writes
-  std::vector<AlignedVector<double>> cols_;  // their values at t^n, in the order of `fields_`
-  std::vector<Group> groups_;                // the groups at t^n
+  std::vector<Field> fields_;  // registered columns the step writes
+  // Their values at t^n, in the order of `fields_`, as 8-byte words (copied, not converted), so
+  // that the first can live in the owner keys' buffer.
+  std::vector<std::vector<std::uint64_t>> cols_;
+  std::vector<Group> groups_;  // the groups at t^n
   Clock clock_;
   EnergyBudget energy_;
   double internal_next_ = 0.0;
   bool columns_due_ = false;  // save_columns not yet called in this step
+  bool lent_out_ = false;     // cols_[0] is the owner keys' buffer (save_columns, end_step)
   // The columns exchanged with a buffer, which holds their values at the exchange, in order.
   std::vector<std::pair<Field, AlignedVector<double>*>> swaps_;
   // Outflow removed the particles flagged here (over the store before the removal; empty:

@@ -4,7 +4,6 @@
 // reached through references, so a stage is a free function of this struct and nothing else.
 
 #include <array>
-#include <bit>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -41,14 +40,6 @@ struct StepSums {
   std::size_t failure_particle = 0;
 };
 
-// The kinetic energy at t^n in a word of State::owner_keys, and back (the same bits).
-inline std::uint64_t kinetic_word(double e) {
-  return std::bit_cast<std::uint64_t>(e);
-}
-inline double kinetic_of(std::uint64_t word) {
-  return std::bit_cast<double>(word);
-}
-
 // Per-particle scratch columns of one step (sized by the sort stage).
 struct Scratch {
   // Displacement over the step (G2P -> advance_positions); from advance_positions to the next
@@ -57,9 +48,9 @@ struct Scratch {
   AlignedVector<double> dx, dy, dz;
   // Potential energy at t^n (G2P -> energy). The potential -m g.x is zero for every particle
   // without gravity (the exact sum of zeros is zero): the column is then left empty (8 B per
-  // particle less) and the energy stage's sum over it is empty. (The kinetic energy at t^n
-  // shares State::owner_keys' words; that of the velocity each particle scattered in this
-  // step's P2G, v^{n-1/2}, is summed by G2P itself into StepSums::transferred: no column.)
+  // particle less) and the energy stage's sum over it is empty. (The kinetic energy at t^n, and
+  // that of the velocity each particle scattered in this step's P2G, v^{n-1/2}, are summed by
+  // G2P itself into StepSums::kinetic and ::transferred: no columns.)
   AlignedVector<double> potential;
   // The plain FLIP velocity of the step (G2P -> filter_heat; SolverConfig::filter_heat only).
   AlignedVector<double> flip_vx, flip_vy, flip_vz;
@@ -107,10 +98,9 @@ struct State {
   SparseGrid grid;
   StageGraph graph;
   tbb::task_arena arena;
-  // One 8-byte word per particle with two lives that never overlap (8 B per particle for both):
-  // the owner block key (compute_keys, in migration and the sort stage, read up to the grid's
-  // assign in the sort stage), then the particle's kinetic energy at t^n as the bits of a double
-  // (kinetic_word: written by G2P, outflow drops the departed rows, summed by the energy stage).
+  // Owner block key per particle (compute_keys: migration and the sort stage, read up to the
+  // grid's assign there). Its buffer is lent to the step retake's copy from the end of the sort
+  // to the end of the step, when the keys are dead (Journal::save_columns, end_step).
   std::vector<std::uint64_t> owner_keys;
   Scratch scratch;
   // Each particle's stencil (weights, gradients, offsets), stored by the sort stage and read by

@@ -98,7 +98,7 @@ void Simulation::step() {
     clock_.dt = shorter;
     ++retakes_;
   }
-  journal.end_step(particles_);
+  journal.end_step(particles_, s.owner_keys);
   mpm::refresh_timings(s);
 }
 

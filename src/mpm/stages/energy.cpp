@@ -14,8 +14,7 @@ void energy(State& s) {
   const Scratch& sc = s.scratch;
   const auto m = P.col(Field::mass), e = P.col(Field::energy);
   // (The transferred kinetic energy, StepSums::transferred, is summed by G2P.)
-  const std::vector<std::uint64_t>& kinetic = s.owner_keys;  // G2P's words (State::owner_keys)
-  s.sums.kinetic = exact_sum(kinetic.size(), [&](std::size_t p) { return kinetic_of(kinetic[p]); });
+  // (The kinetic energy at t^n, StepSums::kinetic, is summed by G2P over the points that stay.)
   s.sums.potential = exact_sum(sc.potential.size(), [&](std::size_t p) { return sc.potential[p]; });
   s.sums.internal = exact_sum(P.size(), [&](std::size_t p) { return m[p] * e[p]; });
 }

@@ -30,21 +30,16 @@ void advance_positions(State& s) {
   P.swap_column(Field::z, sc.dz);
 }
 
-// The departed particles' rows of the per-particle mechanical energies are dropped so that the
-// energy sums match the remaining particles (the potential only where it is stored: Scratch).
-void drop_departed(State& s, const std::vector<std::uint8_t>& leaving) {
-  Scratch& sc = s.scratch;
-  std::vector<std::uint64_t>& kinetic = s.owner_keys;  // the kinetic words (State::owner_keys)
-  const bool potential = !sc.potential.empty();
+// The departed particles' rows of the potential energy column (where it is stored: Scratch)
+// are dropped so that its sum matches the remaining particles; G2P left them out of the
+// kinetic energy's sum already.
+void drop_departed(Scratch& sc, const std::vector<std::uint8_t>& leaving) {
+  if (sc.potential.empty()) return;
   std::size_t k = 0;
   for (std::size_t p = 0; p < leaving.size(); ++p) {
-    if (leaving[p]) continue;
-    kinetic[k] = kinetic[p];
-    if (potential) sc.potential[k] = sc.potential[p];
-    ++k;
+    if (!leaving[p]) sc.potential[k++] = sc.potential[p];
   }
-  kinetic.resize(k);
-  if (potential) sc.potential.resize(k);
+  sc.potential.resize(k);
 }
 
 void outflow(State& s) {
@@ -76,7 +71,7 @@ void outflow(State& s) {
   // internal sum one row later. Kinetic and potential energy are dropped from this step's sums
   // (drop_departed), so all three leave the budget in the step that books them as outflow.
   s.sums.carried_internal = carried_internal;
-  drop_departed(s, leaving);
+  drop_departed(s.scratch, leaving);
 }
 
 }  // namespace

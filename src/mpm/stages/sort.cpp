@@ -84,8 +84,9 @@ void sort(State& s) {
   }
   if (s.driven) s.driven->scatter<Shape>(P, s.grid, s.stencil_rows<Shape>(), ih);
   // The step retake's copy of the columns the step writes, in the sorted order, in the first
-  // attempt (retake.hpp, "When"); before any stage that writes them.
-  if (s.journal.columns_due()) s.journal.save_columns(P);
+  // attempt (retake.hpp, "When"); before any stage that writes them. The keys are dead from
+  // here: their buffer holds the first copied column (State::owner_keys).
+  if (s.journal.columns_due()) s.journal.save_columns(P, s.owner_keys);
 }
 
 // kAxisymmetric: the y stencil is the node y = 0 alone (kernels::store_stencils), in block 0.
@@ -129,9 +130,7 @@ void compute_keys(State& s) {
 
 template <class Shape>
 Stage sort_stage(State& s) {
-  // kMechanical: the owner keys share their words with the kinetic energies (State::owner_keys).
-  return {
-      "sort", {kGeometry, kClock}, {all_fields(), kBlocks | kMechanical}, [&s] { sort<Shape>(s); }};
+  return {"sort", {kGeometry, kClock}, {all_fields(), kBlocks}, [&s] { sort<Shape>(s); }};
 }
 
 #define SHATTER_INSTANTIATE(S)              \
