@@ -238,10 +238,11 @@ BoulderField place_boulders(const Shape& host, const BoulderParams& p) {
                             ? box.hi.x() - box.lo.x()
                             : 0.5 * (box.hi[a] - box.lo[a]);
     if (p.radius_max > room) {
-      throw BoulderError("radius_max",
-                         fmt::format("= {} m does not fit in the host{} ({:.4g} m across on {})",
-                                     p.radius_max, p.region ? " inside the region" : "", 2.0 * room,
-                                     p.axisymmetric && a == 0 ? std::string("r") : std::string(1, "xyz"[a])));
+      throw BoulderError(
+          "radius_max",
+          fmt::format("= {} m does not fit in the host{} ({:.4g} m across on {})", p.radius_max,
+                      p.region ? " inside the region" : "", 2.0 * room,
+                      p.axisymmetric && a == 0 ? std::string("r") : std::string(1, "xyz"[a])));
     }
   }
   auto set = std::make_shared<SphereSet>(p.radius_max);
