@@ -6,6 +6,10 @@
            [--times T1,T2,...] [--lab] [--shatter build/release/shatter]
   study.py --summarise DIR
 
+A scene with a random boulder field ([body.NAME.boulders], docs/scenes.md) draws it from
+fracture.seed unless the table gives its own seed, so --seeds makes an ensemble over boulder
+fields as well as over flaws.
+
 Every combination of the --grid values (any key `shatter run --set` takes: impact.speed,
 impact.angle, body.target.damage.weibull_k, a material parameter, ...) is run for each seed as
 `shatter run SCENE --out DIR/<grid point>/seed<S> --overwrite --set fracture.seed=S --set KEY=V
@@ -15,10 +19,11 @@ has 2 shared cores).
 
 Per run, figures that any scene and either method gives (from its outputs alone):
   failure ratio (points with D >= the threshold, timeseries.csv) at the end and at --times
-  (interpolated), the largest fragment's share of the total mass and its speed, the number of
-  fragments, the dust share (fragments.csv), the largest |relative energy error|, and every
-  number the fragment table's header holds whose name contains "bound" (a bound remnant, when
-  the run writes one). With --lab, also the lab-impact set of tools/ensemble.py (core, shells,
+  (interpolated); for a scene with [beta], the momentum enhancement's columns beta,
+  beta_target and beta_launch at the end and at --times (NaN past the run's end); the wall time;
+  the largest fragment's share of the total mass and its speed, the number of fragments, the
+  dust share (fragments.csv), the largest |relative energy error|, and every number the fragment
+  table's header holds whose name contains "bound" (a bound remnant, when the run writes one). With --lab, also the lab-impact set of tools/ensemble.py (core, shells,
   failure at 40/100 us; needs a body named "target" with a centre; NaN otherwise, said so).
 
 Writes DIR/study.csv (one row per run) and DIR/study.md (per grid point: mean +- sample standard
@@ -111,6 +116,9 @@ def general_metrics(run_dir, times):
     for want in times:
         m[f"failure_at_{want:g}s"] = float(np.interp(want, t, ts["failure_ratio"]))
     m["energy_error"] = float(np.max(np.abs(ts["energy_error"])))
+    m.update(beta_metrics(ts, times))
+    if "wall_s" in ts:
+        m["wall_s"] = float(ts["wall_s"][-1])
     frag = os.path.join(run_dir, "fragments.csv")
     if os.path.exists(frag):
         head = fragment_header(frag)
@@ -124,6 +132,25 @@ def general_metrics(run_dir, times):
         for key, value in head.items():
             if "bound" in key:
                 m[key] = value
+    return m
+
+
+BETA_COLUMNS = ("beta", "beta_target", "beta_launch")
+
+
+def beta_metrics(ts, times):
+    """The momentum enhancement of a run whose scene has [beta] (its time series' beta columns,
+    docs/validation-dart.md): each at the end and at --times (interpolated; NaN past the end).
+    {} for a run without them."""
+    t = ts["time_s"]
+    m = {}
+    for col in BETA_COLUMNS:
+        if col not in ts:
+            continue
+        m[f"{col}_end"] = float(ts[col][-1])
+        for want in times:
+            m[f"{col}_at_{want:g}s"] = (float(np.interp(want, t, ts[col]))
+                                        if want <= t[-1] * (1 + 1e-9) else float("nan"))
     return m
 
 
@@ -199,7 +226,7 @@ def main(argv=None):
     ap.add_argument("--set", action="append", default=[], help="KEY=VALUE for every run")
     ap.add_argument("-j", "--jobs", type=int, default=1, help="runs at once (default 1)")
     ap.add_argument("--threads", type=int, default=1, help="threads per run (default 1)")
-    ap.add_argument("--times", default="", help="failure ratio also at these times (s)")
+    ap.add_argument("--times", default="", help="failure ratio and beta also at these times (s)")
     ap.add_argument("--lab", action="store_true", help="also the lab-impact figures")
     ap.add_argument("--shatter", default="build/release/shatter")
     ap.add_argument("--summarise", metavar="DIR", help="only the tables of a study's runs")

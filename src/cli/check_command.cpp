@@ -114,6 +114,7 @@ int check_command(const std::filesystem::path& scene_file, const RunOptions& opt
                b.spacing, b.material.name, b.material.eos, b.material.strength,
                b.damage.model == "none" ? "" : ", damage " + b.damage.model);
   }
+  for (const std::string& line : s.notes) fmt::print("{}\n", line);  // boulder fields
   for (const std::string& line : resolution_advice(s)) fmt::print("{}\n", line);
   const bool counted = !e.bodies.empty() && e.bodies.front().counted;
   fmt::print("points: {}{}\n",

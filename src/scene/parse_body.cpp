@@ -18,7 +18,7 @@ const std::vector<std::string> kShapeKinds = {"sphere",   "ellipsoid", "box",
                                               "cylinder", "mesh",      "union"};
 const std::vector<std::string> kBodyKeys = {
     "shape", "material", "velocity",         "spacing", "points_per_cell", "energy",
-    "mass",  "damage",   "lattice_rotation", "driven",  "porosity"};
+    "mass",  "damage",   "lattice_rotation", "driven",  "porosity",        "boulders"};
 const std::vector<std::string> kMaterialModelKeys = {"eos", "strength"};
 
 std::vector<std::string> shape_keys(const std::string& kind) {
@@ -179,6 +179,8 @@ std::string key_named_in(const std::string& message, const toml::table& table) {
   return {};
 }
 
+}  // namespace
+
 MaterialSpec read_material(Reader& body, const MaterialCatalogue& catalogue) {
   body.note_type("material", "string or table");
   const toml::node* n = body.table().get("material");
@@ -218,6 +220,8 @@ MaterialSpec read_material(Reader& body, const MaterialCatalogue& catalogue) {
   }
   return spec;
 }
+
+namespace {
 
 double young_modulus(const MaterialSpec& m) {
   if (m.params.count("young")) return m.params.at("young");
@@ -333,6 +337,8 @@ void read_mass_and_validate(Reader& r, BodySpec& b) {
   }
 }
 
+}  // namespace
+
 // [body.NAME.damage]: the damage model and its parameters (flaws drawn for grady_kipp).
 void read_damage(Reader& r, BodySpec& b, const Scene& scene) {
   toml::table* damage = r.subtable("damage");
@@ -373,8 +379,6 @@ void read_damage(Reader& r, BodySpec& b, const Scene& scene) {
     }
   }
 }
-
-}  // namespace
 
 BodySpec read_body(Reader& r, const std::string& name, const Scene& scene,
                    const MaterialCatalogue& catalogue, bool placed_by_impact) {

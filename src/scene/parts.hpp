@@ -45,6 +45,16 @@ std::optional<ImpactInput> read_impact(Reader& root, const Scene& scene);
 BodySpec read_body(Reader& body, const std::string& name, const Scene& scene,
                    const MaterialCatalogue& catalogue, bool placed_by_impact);
 
+// A body's `material` (a catalogue name, or a table of a name and overrides) and its [damage]
+// (parse_body.cpp); also read for a boulder field.
+MaterialSpec read_material(Reader& body, const MaterialCatalogue& catalogue);
+void read_damage(Reader& r, BodySpec& b, const Scene& scene);
+
+// [body.NAME.boulders] (parse_boulders.cpp): places the host's random boulder field, cuts it out
+// of the host's shape and returns the boulder body (NAME_boulders); none without the table.
+std::optional<BodySpec> read_boulders(Reader& body, BodySpec& host, Scene& scene,
+                                      const MaterialCatalogue& catalogue);
+
 // Places the projectile against the target (MPM paper Fig. 4) and fills it with points.
 void apply_impact(const ImpactInput& in, Scene& scene);
 

@@ -100,6 +100,7 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
       }
     }
   }
+  std::vector<BodySpec> boulders;
   for (auto&& [key, node] : *bodies) {
     const std::string name(key.str());
     auto* t = node.as_table();
@@ -110,6 +111,22 @@ Scene parse(toml::table doc, const std::string& source, const std::vector<std::s
     Reader b(*t, "body." + name, location(key.source()));
     const bool placed = impact && impact->projectile == name;
     scene.bodies.push_back(read_body(b, name, scene, catalogue, placed));
+    if (auto field = read_boulders(b, scene.bodies.back(), scene, catalogue)) {
+      boulders.push_back(std::move(*field));
+    }
+  }
+  // Boulder bodies (NAME_boulders) after the bodies of the file, whose ids stay as they were.
+  for (BodySpec& field : boulders) {
+    for (const BodySpec& other : scene.bodies) {
+      if (other.name == field.name) {
+        throw SceneError(field.where,
+                         "body." + field.name.substr(0, field.name.size() - 9) + ".boulders",
+                         fmt::format("its body would be named '{}', which a [body.{}] of the "
+                                     "scene already is; rename that body",
+                                     field.name, field.name));
+      }
+    }
+    scene.bodies.push_back(std::move(field));
   }
   if (impact) apply_impact(*impact, scene);
   resolve_contact_pairs(scene);

@@ -1,5 +1,6 @@
 #include "shatter/scene/shapes.hpp"
 
+#include "shatter/scene/boulders.hpp"
 #include "shatter/scene/mesh.hpp"
 
 #include <algorithm>
@@ -73,6 +74,8 @@ double volume(const Primitive& s) {
 }
 
 bool Shape::contains(const Vec3& p) const {
+  if (holes && holes->contains(p)) return false;
+  if (only && !only->contains(p)) return false;
   return std::any_of(parts.begin(), parts.end(),
                      [&](const Primitive& s) { return scene::contains(s, p); });
 }
@@ -84,11 +87,16 @@ Bounds Shape::bounds() const {
     b.lo = b.lo.cwiseMin(o.lo);
     b.hi = b.hi.cwiseMax(o.hi);
   }
+  if (only) {
+    const Bounds o = only->bounds();
+    b.lo = b.lo.cwiseMax(o.lo);
+    b.hi = b.hi.cwiseMin(o.hi);
+  }
   return b;
 }
 
 std::optional<double> Shape::exact_volume() const {
-  if (parts.size() != 1) return std::nullopt;
+  if (parts.size() != 1 || holes || only) return std::nullopt;
   return volume(parts.front());
 }
 

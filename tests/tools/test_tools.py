@@ -506,3 +506,28 @@ def test_crater_refuses_an_oblique_impact(tmp_path):
 
 def run_tool_crater(run_dir, *args):
     return run([PYTHON, os.path.join(TOOLS, "crater.py"), str(run_dir), *args])
+
+
+def test_study_summary_reports_beta_over_seeds(tmp_path):
+    """A study of a [beta] scene: beta, beta_target and beta_launch at the end and at --times,
+    mean +- sample standard deviation and range over the seeds (two hand-written runs)."""
+    header = "step,time_s,failure_ratio,energy_error,beta,beta_target,beta_launch,wall_s\n"
+    for seed, slope in ((1, 10.0), (2, 20.0)):
+        run_dir = tmp_path / "base" / f"seed{seed}"
+        run_dir.mkdir(parents=True)
+        rows = [f"{i},{t},0,0,{1 + slope * t},{1 + slope * t},{1 + 0.5 * slope * t},{t * 100}"
+                for i, t in enumerate((0.0, 0.01, 0.02))]
+        (run_dir / "timeseries.csv").write_text(header + "\n".join(rows) + "\n")
+        (run_dir / "study.done").write_text("hand-written\n")
+    r = run([PYTHON, os.path.join(TOOLS, "study.py"), "--summarise", str(tmp_path),
+             "--times", "0.01,0.05"])
+    assert r.returncode == 0, r.stdout + r.stderr
+    with open(tmp_path / "study.csv") as f:
+        rows = {int(row["seed"]): row for row in csv.DictReader(f)}
+    assert float(rows[1]["beta_end"]) == pytest.approx(1.2)
+    assert float(rows[2]["beta_at_0.01s"]) == pytest.approx(1.2)
+    assert float(rows[2]["beta_launch_end"]) == pytest.approx(1.2)
+    assert math.isnan(float(rows[1]["beta_at_0.05s"]))  # past the end of the run
+    md = (tmp_path / "study.md").read_text()
+    # beta at the end: 1.2 and 1.4: mean 1.3, sample standard deviation 0.14, range 1.2-1.4
+    assert "1.3 ± 0.14 (1.2-1.4)" in md, md

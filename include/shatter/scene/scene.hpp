@@ -14,7 +14,7 @@
 //   [domain]                   lo, hi, boundary, x_lo, x_hi, y_lo, y_hi, z_lo, z_hi
 //   [body.NAME]                shape (sphere, ellipsoid, box, cylinder, mesh, union) + its keys,
 //                              material, velocity, spacing, points_per_cell,
-//                              energy, mass, [body.NAME.damage]
+//                              energy, mass, [body.NAME.damage], [body.NAME.boulders]
 //   [impact]                   projectile, target, speed, angle, direction, offset, gap
 //   [fracture]                 seed, threshold, fragment_method, fragment_cell, static_strength
 //   [output]                   directory, snapshot_every, columns, checkpoint_every,
@@ -112,6 +112,9 @@ struct Scene {
   OutputSpec output;
   std::optional<BetaSpec> beta;  // [beta]: beta(t) in the time series (issue 32)
   std::string resolved;          // the scene as TOML after extends and --set, defaults written out
+  // What the reader derived that the user should see (`shatter check` prints them): the boulder
+  // fields placed ([body.NAME.boulders]).
+  std::vector<std::string> notes;
 
   std::size_t particle_count() const;
 };

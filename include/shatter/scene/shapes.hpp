@@ -43,6 +43,8 @@ struct Mesh {
 
 using Primitive = std::variant<Sphere, Ellipsoid, Box, Cylinder, Mesh>;
 
+class SphereSet;  // include/shatter/scene/boulders.hpp
+
 struct Bounds {
   Vec3 lo = Vec3::Zero();
   Vec3 hi = Vec3::Zero();
@@ -55,13 +57,22 @@ bool contains(const Primitive& s, const Vec3& p);
 Bounds bounds(const Primitive& s);
 double volume(const Primitive& s);
 
-// A body's shape: the union of its parts (one part for a plain primitive).
+// A body's shape: the union of its parts (one part for a plain primitive). A boulder field
+// (include/shatter/scene/boulders.hpp) cuts its spheres out of its host (`holes`) and makes the
+// boulder body the host's parts restricted to the spheres (`only`), so that the two bodies share
+// the host's lattice and split its points exactly.
 struct Shape {
+  Shape() = default;
+  // A primitive or a union of parts: Shape{{Sphere{...}}}.
+  Shape(std::vector<Primitive> p) : parts(std::move(p)) {}  // NOLINT(google-explicit-constructor)
+
   std::vector<Primitive> parts;
+  std::shared_ptr<const SphereSet> holes;  // points inside one of these are outside
+  std::shared_ptr<const SphereSet> only;   // when set, points outside all of these are outside
 
   bool contains(const Vec3& p) const;
   Bounds bounds() const;
-  // Exact volume of a single primitive; none for a union (parts may overlap).
+  // Exact volume of a single primitive; none for a union (parts may overlap) or with boulders.
   std::optional<double> exact_volume() const;
 };
 
