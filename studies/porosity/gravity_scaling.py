@@ -231,6 +231,8 @@ def plot(prefix, runs, table):
         if row["pi2"] == 0.0:
             continue
         c = colours.get(row["porosity"], "k")
+        if row["series"] == "LS" and os.environ.get("CURVES_OF") == "all":
+            c = "C3"  # session 20's sand crush curve, as in the growth curves
         mk = markers.get(row["series"], "x")
         ms = {5: 6, 10: 9}.get(row["cppr"], 13)
         # a 20 CPPR point sits at the same pi_2 as its 10 CPPR one: shift it a little right
