@@ -226,13 +226,14 @@ def plot(prefix, runs, table):
                 ax.plot(p2, pi_v_two_term(k1, mu, p2, rho / RHO_PROJ, S), ":", color=col,
                         label=name.split(" (")[0] + f" two-term, S from series {g0[0]['series']}'s"
                         f" g = 0 run ({g0[0]['cppr']} CPPR)")
-    markers = {"L": "o", "Lp": "^", "D": "s", "LT": "D", "LS": "v"}
+    markers = {"L": "o", "Lp": "^", "D": "s", "LT": "D", "LS": "v", "LSu1": "X"}
+    # session 20's series in their own colours with CURVES_OF = "all": LS (sand crush curve) red,
+    # LSu1 (the same at U = 1 km/s) green
+    series_colour = {"LS": "C3", "LSu1": "C2"} if os.environ.get("CURVES_OF") == "all" else {}
     for row in table:
         if row["pi2"] == 0.0:
             continue
-        c = colours.get(row["porosity"], "k")
-        if row["series"] == "LS" and os.environ.get("CURVES_OF") == "all":
-            c = "C3"  # session 20's sand crush curve, as in the growth curves
+        c = series_colour.get(row["series"], colours.get(row["porosity"], "k"))
         mk = markers.get(row["series"], "x")
         ms = {5: 6, 10: 9}.get(row["cppr"], 13)
         # a 20 CPPR point sits at the same pi_2 as its 10 CPPR one: shift it a little right
@@ -258,7 +259,7 @@ def plot(prefix, runs, table):
     ax.legend(fontsize=6.5)
     ax.grid(True, which="both", alpha=0.3)
     # The growth curves of the first series given, and every g = 0 run; with CURVES_OF = "all"
-    # (environment) those of every series, series LS (session 20's sand crush curve) in red.
+    # (environment) those of every series.
     main_series = runs[0][5]
     every = os.environ.get("CURVES_OF") == "all"
     rows = {(r["series"], r["porosity"], r["pi2"], r["cppr"]): r for r in table}
@@ -268,7 +269,7 @@ def plot(prefix, runs, table):
         h = np.array([r for r in hist if np.isfinite(r[3])])
         ls = {0.0: (0, (1, 1)), 3e-4: ":", 1e-3: "--", 3e-3: "-"}.get(pi2, "-.")
         lw = {5: 1.0, 10: 1.6}.get(cppr, 2.6)
-        col = "C3" if every and series == "LS" else colours.get(phi, "k")
+        col = series_colour.get(series, colours.get(phi, "k"))
         label = f"{series} {phi:.0%}, pi_2 {pi2:g}, {cppr} CPPR"
         bx.plot(h[:, 0], h[:, 3], linestyle=ls, color=col, lw=lw, label=label)
         row = rows[(series, phi, pi2, cppr)]
