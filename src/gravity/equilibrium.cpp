@@ -71,9 +71,98 @@ double settle_group(ParticleStore& P, const MaterialModel& model, Range r, doubl
   return settle(P, model, r, target, p0);
 }
 
+// The bulk density at which a porous material at rest carries bulk pressure p (energy e): the
+// root of q(rho) = p, q the pressure of its compaction model at rest (rest_compaction.hpp)
+// (increasing in rho: the matrix density alpha rho grows along both crush curves), between lo
+// (q(lo) <= p) and an upper end found by doubling the step from lo. Illinois false position (Dowell
+// & Jarratt 1971, BIT 11), to a bracket of 1e-13 rho; at most 200 steps.
+double rest_density(const RestCompactionFn& rest, double p, double e, double lo) {
+  auto q = [&](double rho) { return rest(rho, e).pressure - p; };
+  double f_lo = q(lo);
+  if (f_lo >= 0.0) return lo;
+  double step = 1e-3 * lo, hi = lo + step, f_hi = q(hi);
+  for (int k = 0; k < 60 && f_hi < 0.0; ++k) {
+    lo = hi, f_lo = f_hi, step *= 2.0;
+    hi = lo + step, f_hi = q(hi);
+  }
+  int side = 0;
+  for (int k = 0; k < 200 && hi - lo > 1e-13 * hi; ++k) {
+    // every fourth step a bisection: the bracket shrinks even where round-off in q (P-alpha's
+    // root is found to 1e-12 in alpha) misleads the secant
+    double x = k % 4 == 3 ? 0.5 * (lo + hi) : (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+    if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
+    const double f = q(x);
+    if (f == 0.0) return x;
+    if (f < 0.0) {
+      lo = x, f_lo = f;
+      if (side == -1) f_hi *= 0.5;
+      side = -1;
+    } else {
+      hi = x, f_hi = f;
+      if (side == 1) f_lo *= 0.5;
+      side = 1;
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
+// The lithostatic column of a porous body (issue 29): the overburden of a column whose bulk
+// density grows with depth as its pores close, dp/dd = g rho(p) from p = 0 at the free surface
+// (the differential form of p = rho g y, Turcotte & Schubert 2002 Eq. 2-1, with the density
+// of the compacted bulk), rho(p) the density at which the compaction model at rest carries p
+// (rest_compaction.hpp). Integrated by RK4 on kNodes equal steps in depth; each
+// point then takes p at its depth (cubic Hermite between the nodes, dp/dd known there), the
+// density that carries it, the crush curve's distension at that density, and the mass of its
+// volume at that density: its volume (volume0, the space its lattice site tiles) is kept and its
+// mass follows alpha, m = rho volume0, so the grid's density is the point's and the column is in
+// balance without moving a point (an Eulerian code's lithostatic set-up keeps the cells' volume
+// the same way). The body's mass grows by the compaction. Returns the largest |p - target| /
+// p_max after the model's initialise.
+double settle_porous_column(ParticleStore& P, const MaterialModel& model,
+                            const RestCompactionFn& rest, Range r, double g_z, double top,
+                            double bottom) {
+  constexpr int kNodes = 1024;
+  const double H = top - bottom, h = H / kNodes, rho_rest = model.reference_density();
+  const double e0 = P.col(Field::energy)[r.begin];
+  std::vector<double> pn(kNodes + 1), rn(kNodes + 1);
+  pn[0] = 0.0, rn[0] = rest_density(rest, 0.0, e0, rho_rest);
+  for (int k = 0; k < kNodes; ++k) {  // RK4 on dp/dd = g rho(p)
+    const double p = pn[k], lo = rn[k];
+    const double k1 = g_z * lo;
+    const double k2 = g_z * rest_density(rest, p + 0.5 * h * k1, e0, lo);
+    const double k3 = g_z * rest_density(rest, p + 0.5 * h * k2, e0, lo);
+    const double k4 = g_z * rest_density(rest, p + h * k3, e0, lo);
+    pn[k + 1] = p + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+    rn[k + 1] = rest_density(rest, pn[k + 1], e0, lo);
+  }
+  auto rho = P.col(Field::rho), alpha = P.col(Field::distension), m = P.col(Field::mass);
+  const auto z = P.col(Field::z), v = P.col(Field::volume0), e = P.col(Field::energy);
+  std::vector<double> target(r.size());
+  for (std::size_t p = r.begin; p < r.end; ++p) {
+    const double d = std::clamp(top - z[p], 0.0, H);
+    const int k = std::min(static_cast<int>(d / h), kNodes - 1);
+    const double t = d / h - k, t2 = t * t, t3 = t2 * t;  // cubic Hermite on [d_k, d_k+1]
+    const double pt = (2 * t3 - 3 * t2 + 1) * pn[k] + (t3 - 2 * t2 + t) * h * g_z * rn[k] +
+                      (-2 * t3 + 3 * t2) * pn[k + 1] + (t3 - t2) * h * g_z * rn[k + 1];
+    rho[p] = rest_density(rest, pt, e[p], rn[k]);
+    alpha[p] = rest(rho[p], e[p]).alpha;
+    m[p] = rho[p] * v[p];
+    target[p - r.begin] = pt;
+  }
+  model.initialise(P, r);
+  const auto pressure = P.col(Field::pressure);
+  double worst = 0.0;
+  for (std::size_t p = r.begin; p < r.end; ++p) {
+    worst = std::max(worst, std::abs(pressure[p] - target[p - r.begin]) / pn[kNodes]);
+    for (Field f : {Field::sxx, Field::syy, Field::szz}) P.col(f)[p] = -pressure[p];
+    for (Field f : {Field::sxy, Field::syz, Field::sxz}) P.col(f)[p] = 0.0;
+  }
+  return worst;
+}
+
 // The uniform-field column of one body (set_uniform_equilibrium); 0 for a body off the floor.
-double settle_column(ParticleStore& P, const MaterialModel& model, Range r, double g_z, double z_lo,
-                     double cell) {
+double settle_column(ParticleStore& P, const MaterialModel& model, const RestCompactionFn& rest,
+                     Range r, double g_z, double z_lo, double cell) {
   if (r.size() == 0) return 0.0;
   const auto m = P.col(Field::mass), v = P.col(Field::volume0);
   const auto z = P.col(Field::z), s = P.col(Field::size0);
@@ -86,6 +175,11 @@ double settle_column(ParticleStore& P, const MaterialModel& model, Range r, doub
   if (!(M > 0.0 && V > 0.0) || bottom - z_lo > cell) return 0.0;
   const double rho = M / V, p_max = lithostatic_pressure(rho, g_z, top - bottom);
   if (!(p_max > 0.0)) return 0.0;
+  // A porous body (alpha0 > 1) starts on its crush curve; a dense one, and a porous material
+  // given porosity 0, as before (the density's compression p / K ~ 1e-3 needs no mass change).
+  if (rest && rest(model.reference_density(), P.col(Field::energy)[r.begin]).alpha > 1.0) {
+    return settle_porous_column(P, model, rest, r, g_z, top, bottom);
+  }
   std::vector<double> target(r.size());
   for (std::size_t p = r.begin; p < r.end; ++p) {
     target[p - r.begin] = lithostatic_pressure(rho, g_z, top - z[p]);
@@ -119,12 +213,15 @@ double set_equilibrium(ParticleStore& P, const std::vector<MaterialPtr>& materia
 }
 
 double set_uniform_equilibrium(ParticleStore& P, const std::vector<MaterialPtr>& materials,
-                               double g_z, double z_lo, double cell) {
+                               double g_z, double z_lo, double cell,
+                               const std::vector<RestCompactionFn>& rest) {
   require_stress(P);
   double worst = 0.0;
   for (const Group& g : P.groups()) {
-    const MaterialModel& model = *materials[static_cast<std::size_t>(g.material)];
-    worst = std::max(worst, settle_column(P, model, g.range, g_z, z_lo, cell));
+    const auto k = static_cast<std::size_t>(g.material);
+    const RestCompactionFn none;
+    const RestCompactionFn& q = k < rest.size() ? rest[k] : none;
+    worst = std::max(worst, settle_column(P, *materials[k], q, g.range, g_z, z_lo, cell));
   }
   return worst;
 }

@@ -18,6 +18,7 @@
 #include "materials/model_factory.hpp"
 #include "materials/porosity_factory.hpp"
 #include "shatter/material/probe.hpp"
+#include "shatter/material/rest_compaction.hpp"
 
 namespace shatter {
 
@@ -111,6 +112,31 @@ std::vector<HugoniotRow> porous_hugoniot(const MaterialSpec& spec, std::span<con
           rows.push_back({u, us, rho00 * us * u, rho1, e1});
         }
         return rows;
+      },
+      materials::make_eos(spec));
+}
+
+RestCompactionFn rest_compaction(const MaterialSpec& spec) {
+  require_porous(spec);
+  const porosity::Porous por = materials::make_porosity(spec);
+  const double rho00 = spec.get("rho0") / por.alpha0();
+  const bool stepped = por.model() == porosity::Model::eps_alpha && por.eps_params().chi != 1.0;
+  return std::visit(
+      [&](const auto& eos) -> RestCompactionFn {
+        return [por, eos, rho00, stepped](double rho, double e) {
+          double alpha = por.compact(eos, rho, rho00, e, por.alpha0());
+          if (stepped && rho > rho00) {  // the monotone compression in kRestSteps steps
+            alpha = por.alpha0();
+            const double step = std::log(rho / rho00) / kRestSteps;
+            double r_old = rho00;
+            for (int k = 1; k <= kRestSteps; ++k) {
+              const double r = k == kRestSteps ? rho : rho00 * std::exp(step * k);
+              alpha = por.compact(eos, r, r_old, e, alpha);
+              r_old = r;
+            }
+          }
+          return RestCompaction{alpha, por.bulk(eos, rho, e, alpha).p};
+        };
       },
       materials::make_eos(spec));
 }

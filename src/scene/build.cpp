@@ -90,8 +90,14 @@ BuiltScene build(const Scene& scene) {
   if (g.equilibrium && g.self) {
     gravity::set_equilibrium(P, s.materials, g.G);
   } else if (g.equilibrium) {
+    // porous bodies start on their crush curve (issue 29): their materials' compaction at rest
+    std::vector<RestCompactionFn> rest;
+    for (const BodySpec& b : scene.bodies) {
+      rest.push_back(b.material.porosity.empty() ? RestCompactionFn{}
+                                                 : rest_compaction(b.material));
+    }
     gravity::set_uniform_equilibrium(P, s.materials, -scene.solver.gravity.z(),
-                                     scene.solver.domain.lo.z(), scene.solver.cell_size);
+                                     scene.solver.domain.lo.z(), scene.solver.cell_size, rest);
   }
   return s;
 }

@@ -42,7 +42,10 @@ the gravity regime) K1 = 0.2, mu = 0.55 (pi_V = 0.2 pi_2^-0.65; K1 0.095 of the 
 The g a / U^2 constants (dry sand 0.132 / 0.41; wet soils, soft and hard rock 0.095 / 0.55) are
 those of Holsapple's crater-size spreadsheet notes ("Notes on Crater Scaling Results", after
 Holsapple 1993 and Schmidt & Housen 1987), read in session 18 (docs/validation-porosity.md).
-rho is the target's bulk density, delta and m the projectile's density and mass.
+rho is the target's bulk density, delta and m the projectile's density and mass. rho is taken at
+rest, rho_s0 (1 - porosity): the density of the free surface; a porous target whose lithostatic
+start puts it on its crush curve (session 20) is denser below (its own figures in
+docs/validation-porosity.md, "Session 20").
 Runs at g = 0 (LABEL pi2 = 0) give the crater without gravity; with them, the fit's two-term
 (gravity-strength transition) form of Holsapple 1993 / Holsapple & Housen 2007,
   pi_V = K1 [pi_2 (rho/delta)^((6 nu - 2 - mu)/(3 mu)) + S]^(-3 mu / (2 + mu)),
@@ -223,11 +226,14 @@ def plot(prefix, runs, table):
                 ax.plot(p2, pi_v_two_term(k1, mu, p2, rho / RHO_PROJ, S), ":", color=col,
                         label=name.split(" (")[0] + f" two-term, S from series {g0[0]['series']}'s"
                         f" g = 0 run ({g0[0]['cppr']} CPPR)")
-    markers = {"L": "o", "Lp": "^", "D": "s", "LT": "D"}
+    markers = {"L": "o", "Lp": "^", "D": "s", "LT": "D", "LS": "v", "LSu1": "X"}
+    # session 20's series in their own colours with CURVES_OF = "all": LS (sand crush curve) red,
+    # LSu1 (the same at U = 1 km/s) green
+    series_colour = {"LS": "C3", "LSu1": "C2"} if os.environ.get("CURVES_OF") == "all" else {}
     for row in table:
         if row["pi2"] == 0.0:
             continue
-        c = colours.get(row["porosity"], "k")
+        c = series_colour.get(row["series"], colours.get(row["porosity"], "k"))
         mk = markers.get(row["series"], "x")
         ms = {5: 6, 10: 9}.get(row["cppr"], 13)
         # a 20 CPPR point sits at the same pi_2 as its 10 CPPR one: shift it a little right
@@ -252,15 +258,18 @@ def plot(prefix, runs, table):
     ax.set_ylabel("pi_V = rho V / m")
     ax.legend(fontsize=6.5)
     ax.grid(True, which="both", alpha=0.3)
-    main_series = runs[0][5]  # the growth curves of the first series given, and every g = 0 run
+    # The growth curves of the first series given, and every g = 0 run; with CURVES_OF = "all"
+    # (environment) those of every series.
+    main_series = runs[0][5]
+    every = os.environ.get("CURVES_OF") == "all"
     rows = {(r["series"], r["porosity"], r["pi2"], r["cppr"]): r for r in table}
     for phi, pi2, cppr, _, hist, series, ej in runs:
-        if series != main_series and pi2 != 0.0:
+        if series != main_series and pi2 != 0.0 and not every:
             continue
         h = np.array([r for r in hist if np.isfinite(r[3])])
         ls = {0.0: (0, (1, 1)), 3e-4: ":", 1e-3: "--", 3e-3: "-"}.get(pi2, "-.")
         lw = {5: 1.0, 10: 1.6}.get(cppr, 2.6)
-        col = colours.get(phi, "k")
+        col = series_colour.get(series, colours.get(phi, "k"))
         label = f"{series} {phi:.0%}, pi_2 {pi2:g}, {cppr} CPPR"
         bx.plot(h[:, 0], h[:, 3], linestyle=ls, color=col, lw=lw, label=label)
         row = rows[(series, phi, pi2, cppr)]

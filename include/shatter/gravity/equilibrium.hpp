@@ -8,6 +8,7 @@
 
 #include "shatter/core/particles.hpp"
 #include "shatter/material/material_model.hpp"
+#include "shatter/material/rest_compaction.hpp"
 
 namespace shatter::gravity {
 
@@ -31,14 +32,20 @@ double set_equilibrium(ParticleStore& store, const std::vector<MaterialPtr>& mat
 // does not change when the column is compressed, so this is the weight of the overburden
 // exactly), z_top the body's highest point plus half its point spacing (its free surface).
 // Density and stress as set_equilibrium: the density raised until the model's initialise gives
-// p(z), stress -p I. A porous point keeps the distension it has (the material's alpha0): the
-// state is consistent with the crush curve only while p stays in the model's elastic range
-// (P-alpha: p < p_e; eps-alpha: strain above eps_e), which the scene has to provide (the
-// column test, tests/unit/gravity/equilibrium_test.cpp, shows the column stays at rest).
+// p(z), stress -p I. A porous body (one whose entry of `rest`, its material's rest_compaction, is
+// given, with alpha0 > 1; issue 29) starts instead on its crush curve: p(z) = g_z times the mass
+// per area above z of a column whose bulk density grows with depth as the pores close (dp/dd = g_z
+// rho(p), integrated from the free surface), each point at the density that carries p(z) at rest
+// and at the distension the compaction model gives there (rest_compaction.hpp: P-alpha's alpha(P),
+// eps-alpha's alpha(eps_V)); its volume (volume0) is kept and its mass set to rho volume0, so the
+// body weighs more than its rest density says (docs/validation-porosity.md, "Session 20"). With an
+// overburden below the crush curve's elastic limit the distension stays alpha0 and only the
+// density's elastic compression (p / K) enters the mass.
 // Bodies off the lower face (a projectile in free fall) are left as they are: free fall is
 // stress-free. Returns the largest relative residual |p_eos - p| / p_max of the settled bodies.
 double set_uniform_equilibrium(ParticleStore& store, const std::vector<MaterialPtr>& materials,
-                               double g_z, double z_lo, double cell);
+                               double g_z, double z_lo, double cell,
+                               const std::vector<RestCompactionFn>& rest = {});
 
 // The lithostatic pressure rho g depth, for the checks.
 double lithostatic_pressure(double rho, double g_z, double depth);

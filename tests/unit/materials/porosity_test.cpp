@@ -22,6 +22,7 @@
 #include "porosity/porosity.hpp"
 #include "shatter/core/particles.hpp"
 #include "shatter/material/catalogue.hpp"
+#include "shatter/material/rest_compaction.hpp"
 
 namespace shatter {
 namespace {
@@ -265,6 +266,51 @@ TEST(PorosityModel, BulkDensityAndColumn) {
     const double eps = std::log(2700.0 / 1.6 / s.col(Field::rho)[i]);
     EXPECT_NEAR(a, w06_alpha({1.6, -1e-4, 0.98, 1.0, -0.2}, eps), 1e-12);
   }
+}
+
+// rest_compaction (include/shatter/material/rest_compaction.hpp), the crush-curve query of the
+// lithostatic start: the distension the kernel's own step (materials::make_porosity, the policy
+// the composed model runs) reaches on a monotone compression from rest taken in 400 steps, from
+// tension and the elastic range to a quarter of the bulk density more, and the bulk pressure
+// there; where it compacted, an unload to rest and a reload keep it (irreversible from that
+// start as from any other). Bounds: eps-alpha with chi = 1 bit for bit (alpha is a function of
+// rho alone); P-alpha 2 Porous::kTolerance (two roots, each to the solver's tolerance);
+// eps-alpha with chi = 0.6 1e-8 (CMW11's elastic regime makes alpha depend on the steps:
+// kRestSteps = 64 against 400 here). The pressure to 1e-12 of itself for the same reasons.
+TEST(PorosityModel, RestCompactionIsTheSteppedCompressionAndStaysIrreversible) {
+  std::vector<MaterialSpec> specs(3, basalt_spec("hydro"));
+  specs[0].porosity = specs[1].porosity = "eps_alpha";
+  specs[0].params.insert({{"alpha0", 1.5}, {"eps_e", -1e-4}, {"kappa", 0.98}, {"eps_x", -0.15}});
+  specs[1].params = specs[0].params;
+  specs[1].params["chi"] = 0.6;
+  specs[2].porosity = "p_alpha";
+  specs[2].params.insert({{"alpha0", 1.5}, {"p_e", 1e6}, {"p_s", 5e8}});
+  const double tol[] = {0.0, 1e-8, 2.0 * Porous::kTolerance};
+  const double rho00 = 2700.0 / 1.5;
+  int compacted = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Porous m = materials::make_porosity(specs[i]);
+    const RestCompactionFn rest = rest_compaction(specs[i]);
+    for (double s : {-0.01, 0.00005, 0.0005, 0.02, 0.1, 0.25}) {
+      const double rho = rho00 * (1.0 + s);
+      double a = m.alpha0(), r_old = rho00;
+      for (int k = 1; k <= 400; ++k) {
+        const double r = rho00 * (1.0 + s * k / 400.0);
+        a = m.compact(kBasalt, r, r_old, 0.0, a);
+        r_old = r;
+      }
+      const RestCompaction q = rest(rho, 0.0);
+      EXPECT_NEAR(q.alpha, a, tol[i]) << specs[i].porosity << " " << i << " s " << s;
+      const double p = m.bulk(kBasalt, rho, 0.0, q.alpha).p;
+      EXPECT_NEAR(q.pressure, p, 1e-12 * std::abs(p)) << i << " s " << s;
+      if (!(q.alpha < m.alpha0() - 1e-3)) continue;  // the elastic range is reversible
+      ++compacted;
+      EXPECT_EQ(m.compact(kBasalt, rho00, rho, 0.0, q.alpha), q.alpha) << "unload " << i;
+      EXPECT_EQ(m.compact(kBasalt, rho, rho00, 0.0, q.alpha), q.alpha) << "reload " << i;
+    }
+  }
+  EXPECT_GE(compacted, 9);  // s = 0.02, 0.1, 0.25 compact every model: the check is not vacuous
+  EXPECT_THROW(rest_compaction(basalt_spec("hydro")), std::invalid_argument);  // no crush curve
 }
 
 // A resumed run builds its solver from the checkpointed store and initialises the materials
