@@ -108,6 +108,7 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
   std::copy(X[2], X[2] + n, zb.begin());
   std::copy(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n), hb.begin());
   lists_valid = true;
+  lists_sorted = true;
   ++builds;
 }
 
@@ -202,6 +203,7 @@ void SphSolver::Impl::permute_lists() {
     place_ghosts();
   }
   search.permute(order, renumber);
+  lists_sorted = true;
 }
 
 // Steps 5-6 of the header: a pure function of the columns (and of the step count, which picks

@@ -28,8 +28,9 @@ std::size_t SphSolver::bytes() const {
     b += held(*v);
   }
   for (const auto& v : I.a_stress) b += held(v);
-  b += held(I.pair_w) + held(I.pair_at) + held(I.active) + held(I.active_count) + held(I.order) +
-       held(I.renumber) + held(I.ghosts) + held(I.kept_ghosts) + held(I.leaving);
+  b += held(I.pair_w) + held(I.pair_at) + held(I.active_count) + held(I.order) + held(I.renumber) +
+       held(I.ghosts) + held(I.kept_ghosts) + held(I.leaving);
+  for (const auto& v : I.rest) b += held(v);
   return b;
 }
 std::uint64_t SphSolver::neighbour_builds() const {

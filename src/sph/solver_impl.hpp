@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
@@ -108,10 +109,13 @@ struct SphSolver::Impl {
   // With mirror particles the gather passes read these copies of the columns (real particles,
   // then their images); without, they read the columns themselves.
   AlignedVector<double> ex, ey, ez, evx, evy, evz, em, erho, ec;
-  // Per neighbour-list entry: the pairs within support at the last forces pass, compacted to the
-  // front of each list's slots (active_count[i] of them), and their viscous weights
-  // (viscous_heating_term).
-  std::vector<std::uint32_t> active, active_count;
+  // The pairs within support at the last forces pass: the first active_count[i] entries of i's
+  // Verlet list, in ascending order (compact_lists re-arranges each list in place); whether the
+  // lists are as a build or permute left them (ascending throughout); scratch per thread for the
+  // re-arrangement; and the pairs' viscous weights (viscous_heating_term).
+  std::vector<std::uint32_t> active_count;
+  bool lists_sorted = false;
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rest;
   std::vector<std::size_t> pair_at;  // n + 1: particle i's weights are pair_w[pair_at[i]...]
   std::vector<double> pair_w;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
