@@ -42,14 +42,14 @@ void SphSolver::Impl::constrain_velocities(double t_half) {
   s.energy_.boundary_work += before - kinetic_energy(s.particles_);
 }
 
-// The kick's viscous heat (made in the rates pass) into the energy at t^n, before the material
-// update reads it.
+// The kick's viscous heat (made in the rates pass, in `heat`) into the energy at t^n, before the
+// material update reads it.
 void SphSolver::Impl::heat_from_kick() {
   ParticleStore& P = s.particles_;
   double* e = P.col(Field::energy).data();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t p = r.begin(); p < r.end(); ++p) e[p] += kick_heat[p];
+                      for (std::size_t p = r.begin(); p < r.end(); ++p) e[p] += heat[p];
                     });
 }
 
@@ -103,7 +103,7 @@ void SphSolver::Impl::rates(double dt, double dt_kick) {
                              .ay = ay.data(),
                              .az = az.data(),
                              .dt_kick = dt_kick,
-                             .heat = kick_heat.data()};
+                             .heat = heat.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
