@@ -250,57 +250,6 @@ inline std::size_t partition_within_support(const PairInputs& in, std::uint32_t*
   return m;
 }
 
-// One particle's viscous weights (count, in list order) kept for the next rates pass as their
-// non-zero values only (pairs on approach; Pi_ij = 0 otherwise) and one bit per weight, 8 a
-// byte (ceil(count / 8) bytes to `nonzero`); returns how many values were written to `out`
-// (room for that + 8). expand_weights puts them back (count + 8 of room in `w`), a zero where
-// the bit is clear, and returns how many values it read. A weight of -0 comes back as +0: the
-// rates pass adds w times a finite number to a lane sum that starts at +0 and is never -0
-// (round to nearest gives x + (-x) = +0), so either zero adds nothing and the bits are those of
-// the weights kept whole. With AVX-512, 8 at a time (vcompresspd, vexpandpd in registers).
-inline std::size_t compress_weights(const double* w, std::size_t count, double* out,
-                                    std::uint8_t* nonzero) {
-  std::size_t m = 0, k = 0;
-#if defined(__AVX512F__)
-  for (; k < count; k += 8) {
-    const auto lanes = static_cast<__mmask8>(count - k >= 8 ? 0xffu : (1u << (count - k)) - 1u);
-    const __m512d v = _mm512_maskz_loadu_pd(lanes, w + k);
-    const __mmask8 keep = _mm512_mask_cmp_pd_mask(lanes, v, _mm512_setzero_pd(), _CMP_NEQ_UQ);
-    _mm512_storeu_pd(out + m, _mm512_maskz_compress_pd(keep, v));
-    nonzero[k / 8] = keep;
-    m += static_cast<std::size_t>(__builtin_popcount(keep));
-  }
-#else
-  for (; k < count; ++k) {
-    if (k % 8 == 0) nonzero[k / 8] = 0;
-    const bool keep = !(w[k] == 0.0);
-    out[m] = w[k];
-    nonzero[k / 8] = static_cast<std::uint8_t>(nonzero[k / 8] | (keep ? 1u << (k % 8) : 0u));
-    m += keep ? 1 : 0;
-  }
-#endif
-  return m;
-}
-
-inline std::size_t expand_weights(const double* in, const std::uint8_t* nonzero, std::size_t count,
-                                  double* w) {
-  std::size_t m = 0, k = 0;
-#if defined(__AVX512F__)
-  for (; k < count; k += 8) {
-    const auto keep = static_cast<__mmask8>(nonzero[k / 8]);
-    _mm512_storeu_pd(w + k, _mm512_maskz_expand_pd(keep, _mm512_loadu_pd(in + m)));
-    m += static_cast<std::size_t>(__builtin_popcount(keep));
-  }
-#else
-  for (; k < count; ++k) {
-    const bool keep = (nonzero[k / 8] >> (k % 8)) & 1u;
-    w[k] = keep ? in[m] : 0.0;
-    m += keep ? 1 : 0;
-  }
-#endif
-  return m;
-}
-
 // Pass 1 outputs: the increments MaterialModel::update expects (App. A.2 step 7 of the MPM
 // paper, same columns as MPM), and rho^{n+1}. L below is the sum of Eq. 18 before the division
 // by rho (S^{ab} = sum_j m_j (v_j^a - v_i^a) dW_ij/dx_i^b).

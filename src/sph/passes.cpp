@@ -98,34 +98,21 @@ void SphSolver::Impl::rates(double dt, double dt_kick) {
     }
     out.rho_n = mirrors ? erho.data() : rho_n.data();
   }
-  const ks::KickHeating kick{.pair_w = nullptr,
+  const ks::KickHeating kick{.pair_w = pair_w.data(),
                              .ax = ax.data(),
                              .ay = ay.data(),
                              .az = az.data(),
                              .dt_kick = dt_kick,
                              .heat = heat.data()};
-  const std::size_t n = P.size();
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, (n + kPairGrain - 1) / kPairGrain, 1),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        WeightScratch& t = weight_scratch.local();
-        for (std::size_t c = r.begin(); c < r.end(); ++c) {
-          // The chunk's weights from the last forces pass, particle by particle in its order.
-          const double* w = weights[c].w.data();
-          const std::uint8_t* nonzero = weights[c].nonzero.data();
-          for (std::size_t i = c * kPairGrain; i < std::min(n, (c + 1) * kPairGrain); ++i) {
-            // The pairs within support at x^n and h^n, compacted by the forces pass of the
-            // last step (or of the constructor or restore()).
-            const std::size_t count = active_count[i];
-            if (t.row.size() < count + 8) t.row.resize(count + 8);
-            w += ks::expand_weights(w, nonzero, count, t.row.data());
-            nonzero += (count + 7) / 8;
-            ks::KickHeating k = kick;
-            k.pair_w = t.row.data();
-            ks::rates_particle<simd::Batch>(in, search.begin_of(i), count, i, dt, out, k);
-          }
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kPairGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        // The pairs within support at x^n and h^n, compacted by the forces
+                        // pass of the last step (or of the constructor or restore()).
+                        ks::rates_particle<simd::Batch>(in, search.begin_of(i), active_count[i], i,
+                                                        dt, out, kick, pair_at[i]);
+                      }
+                    });
 }
 
 void SphSolver::Impl::material(double dt) {
@@ -152,7 +139,9 @@ void SphSolver::Impl::drift(double dt) {
 
 // Each list re-arranged so that its pairs within support come first, in ascending index order
 // (a Verlet list's skin entries after them), which the forces pass and the next step's rates
-// pass use: it runs at these same positions and h.
+// pass use: it runs at these same positions and h. The viscous weights are kept for those pairs
+// only (pair_at: where each particle's start), 53 instead of 75 per particle in the benchmark's
+// cube.
 void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
   const std::size_t n = s.particles_.size();
   active_count.resize(n);
@@ -168,24 +157,23 @@ void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
                       }
                     });
   lists_sorted = false;
-}
-
-namespace {
-// v resized to `size`, its room grown by an eighth when short (as the search's list buffers).
-// Growing to the exact count re-allocated (and copied) at nearly every list build and every step
-// of a compressing flow: in the laboratory impact that copy and its page faults were 15 % of the
-// run (docs/performance.md, SPH round 5). The content is not kept across the growth (it is
-// rewritten before it is read), so the old array is dropped before the new one is made.
-template <class V>
-void fit(V& v, std::size_t size) {
-  if (v.capacity() < size) {
-    const std::size_t cap = std::max(size, v.capacity() + v.capacity() / 8);
-    V().swap(v);
-    v.reserve(cap);
+  pair_at.resize(n + 1);
+  pair_at[0] = 0;
+  for (std::size_t i = 0; i < n; ++i) pair_at[i + 1] = pair_at[i] + active_count[i];
+  // Room for the weights, grown by an eighth when short (as the search's list buffers). Growing
+  // to the exact count re-allocated (and copied) at nearly every list build and every step of a
+  // compressing flow: in the laboratory impact that copy and its page faults were 15 % of the
+  // run (docs/performance.md, SPH round 5). The content is not kept across the growth (it is
+  // rewritten before it is read), so the old array is dropped before the new one is made.
+  if (pair_w.size() < pair_at[n]) {
+    if (pair_w.capacity() < pair_at[n]) {
+      const std::size_t cap = std::max(pair_at[n], pair_w.capacity() + pair_w.capacity() / 8);
+      std::vector<double>().swap(pair_w);
+      pair_w.reserve(cap);
+    }
+    pair_w.resize(pair_at[n]);
   }
-  v.resize(size);
 }
-}  // namespace
 
 void SphSolver::Impl::forces() {
   ParticleStore& P = s.particles_;
@@ -219,40 +207,15 @@ void SphSolver::Impl::forces() {
   }
   for (int d = 0; d < 3; ++d) f.gravity[d] = s.config_.gravity[d];
   compact_lists(in);
-  const ks::ForceOutputs out{ax.data(), ay.data(), az.data(), heat.data(), mu.data(), nullptr};
-  weights.resize((n + kPairGrain - 1) / kPairGrain);
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, weights.size(), 1),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        WeightScratch& t = weight_scratch.local();
-        for (std::size_t c = r.begin(); c < r.end(); ++c) {
-          const std::size_t i0 = c * kPairGrain, i1 = std::min(n, i0 + kPairGrain);
-          std::size_t pairs = 0;
-          for (std::size_t i = i0; i < i1; ++i) pairs += active_count[i];
-          if (t.w.size() < pairs + 8) t.w.resize(pairs + 8);
-          if (t.nonzero.size() < pairs / 8 + (i1 - i0)) t.nonzero.resize(pairs / 8 + (i1 - i0));
-          // Each particle's weights into the row, then only its non-zero ones kept.
-          std::size_t m = 0, bytes = 0;
-          for (std::size_t i = i0; i < i1; ++i) {
-            const std::size_t count = active_count[i];
-            if (t.row.size() < count + 8) t.row.resize(count + 8);
-            ks::ForceOutputs o = out;
-            o.pair_w = t.row.data();
-            ks::forces_particle<simd::Batch>(in, f, search.begin_of(i), count, i, o);
-            m +=
-                ks::compress_weights(t.row.data(), count, t.w.data() + m, t.nonzero.data() + bytes);
-            bytes += (count + 7) / 8;
-          }
-          // The chunk's own arrays hold them to the next rates pass (8 more values of room:
-          // expand_weights reads 8 at a time).
-          ChunkWeights& cw = weights[c];
-          fit(cw.w, m + 8);
-          std::copy(t.w.begin(), t.w.begin() + static_cast<std::ptrdiff_t>(m), cw.w.begin());
-          fit(cw.nonzero, bytes);
-          std::copy(t.nonzero.begin(), t.nonzero.begin() + static_cast<std::ptrdiff_t>(bytes),
-                    cw.nonzero.begin());
-        }
-      });
+  const ks::ForceOutputs out{ax.data(),   ay.data(), az.data(),
+                             heat.data(), mu.data(), pair_w.data()};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kPairGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        ks::forces_particle<simd::Batch>(in, f, search.begin_of(i), active_count[i],
+                                                         i, out, pair_at[i]);
+                      }
+                    });
   if (s.config_.self_gravity.self) add_self_gravity();
   // The images' a^n, for the next kick's viscous heat (rates pass).
   if (mirrors) mirror_vector(ax.data(), ay.data(), az.data(), n);

@@ -28,10 +28,8 @@ std::size_t SphSolver::bytes() const {
     b += held(*v);
   }
   for (const auto& v : I.a_stress) b += held(v);
-  for (const auto& c : I.weights) b += held(c.w) + held(c.nonzero);
-  for (const auto& t : I.weight_scratch) b += held(t.row) + held(t.w) + held(t.nonzero);
-  b += held(I.weights) + held(I.active_count) + held(I.order) + held(I.renumber) + held(I.ghosts) +
-       held(I.kept_ghosts) + held(I.leaving);
+  b += held(I.pair_w) + held(I.pair_at) + held(I.active_count) + held(I.order) + held(I.renumber) +
+       held(I.ghosts) + held(I.kept_ghosts) + held(I.leaving);
   for (const auto& v : I.rest) b += held(v);
   return b;
 }

@@ -118,21 +118,8 @@ struct SphSolver::Impl {
   std::vector<std::uint32_t> active_count;
   bool lists_sorted = false;
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rest;
-  // The viscous weights of the last forces pass, for the next rates pass: per chunk of
-  // kPairGrain particles, the non-zero ones in list order and a bit per pair within support
-  // (ks::compress_weights: most pairs are not on approach and have none), and per thread the
-  // buffers of one chunk as the passes write and read them.
-  struct ChunkWeights {
-    std::vector<double> w;
-    std::vector<std::uint8_t> nonzero;
-  };
-  std::vector<ChunkWeights> weights;
-  struct WeightScratch {
-    AlignedVector<double> row;  // one particle's weights, all of them
-    std::vector<double> w;      // the chunk's non-zero weights
-    std::vector<std::uint8_t> nonzero;
-  };
-  tbb::enumerable_thread_specific<WeightScratch> weight_scratch;
+  std::vector<std::size_t> pair_at;  // n + 1: particle i's weights are pair_w[pair_at[i]...]
+  std::vector<double> pair_w;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
   // The Morris & Monaghan switch: alpha per particle (state: follows the particles through the
   // re-order and the outflow; real then mirror entries). The normalized continuity: a copy of

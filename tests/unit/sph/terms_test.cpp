@@ -5,7 +5,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <random>
 #include <tuple>
 #include <vector>
@@ -359,31 +358,6 @@ TEST(GatherPasses, VerletListPartitionKeepsThePairsWithinSupportInAscendingOrder
   }
   // The calls must have met pairs that came within support from the unsorted part.
   EXPECT_GT(entered, N);
-}
-
-// The viscous weights kept between the passes as their non-zero values and a bit each: every
-// weight comes back with its bits, a zero as +0, for lists of every length around the groups of 8.
-TEST(GatherPasses, ViscousWeightsComeBackFromTheirNonZeroValues) {
-  std::mt19937_64 rng(20);
-  std::uniform_real_distribution<double> value(-1.0, 1.0);
-  for (std::size_t count = 0; count <= 40; ++count) {
-    std::vector<double> w(count + 8), back(count + 8, 7.0), kept(count + 8);
-    std::vector<std::uint8_t> nonzero((count + 7) / 8 + 1);
-    std::size_t zeros = 0;
-    for (std::size_t k = 0; k < count; ++k) {
-      const double v = value(rng);
-      w[k] = v < -0.6 ? -0.0 : (v < 0.0 ? 0.0 : v);
-      zeros += w[k] == 0.0 ? 1 : 0;
-    }
-    const std::size_t m = compress_weights(w.data(), count, kept.data(), nonzero.data());
-    EXPECT_EQ(m, count - zeros);
-    EXPECT_EQ(expand_weights(kept.data(), nonzero.data(), count, back.data()), m);
-    for (std::size_t k = 0; k < count; ++k) {
-      const double want = w[k] == 0.0 ? 0.0 : w[k];
-      EXPECT_EQ(std::memcmp(&back[k], &want, sizeof(double)), 0)
-          << "count " << count << ", k " << k;
-    }
-  }
 }
 
 }  // namespace
