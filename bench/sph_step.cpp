@@ -8,8 +8,9 @@
 // Counters: items/s = particle-steps (or particle searches) per wall second; items/cpu_s = the
 // same per second of process CPU time (all threads: the comparable figure on a shared machine);
 // neighbours = mean list length (with the Verlet skin's entries); bytes/particle = registered
-// particle columns + the solver's own arrays (h, a, heat, neighbour lists, compacted lists and
-// per-pair viscous weights); <stage>_ns = wall time of that stage per particle-step from
+// particle columns + what the solver holds (SphSolver::bytes(): its arrays, the search's lists,
+// cells and buffers, the per-pair viscous weights, scratch; capacities), columns_B and search_B
+// two of those parts; <stage>_ns = wall time of that stage per particle-step from
 // SphSolver::stage_timings().
 #include <cmath>
 #include <ctime>
@@ -69,28 +70,6 @@ total_flaws = 1.0e9
                                           threads);
 }
 
-std::size_t solver_bytes(const sph::SphSolver& sim) {
-  // h, h_mid, a (3), heat, mu, kick heat: 8 doubles per particle; sigma / rho^2: 6; the Verlet
-  // skin and positions and h at the last build: 5 (the skin since session 17); the compacted
-  // list's count (4 B) and where each particle's viscous weights start (8 B); per list entry: the
-  // search's index (in bytes()) and the compacted index (4 B); per pair within support (as the
-  // forces pass counts them): one viscous weight (8 B).
-  const std::size_t n = sim.particles().size();
-  const auto& nb = sim.neighbours();
-  const auto x = sim.particles().col(Field::x), y = sim.particles().col(Field::y),
-             z = sim.particles().col(Field::z);
-  const auto h = sim.smoothing_length();
-  std::size_t within = 0;
-  for (std::size_t i = 0; i < nb.lists(); ++i) {
-    for (const std::uint32_t j : nb.of(i)) {
-      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j], reach = h[i] + h[j];
-      within += dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0;
-    }
-  }
-  return n * (19 * sizeof(double) + sizeof(std::uint32_t) + sizeof(std::size_t)) + nb.bytes() +
-         nb.pairs() * sizeof(std::uint32_t) + within * sizeof(double);
-}
-
 // Process CPU time (all threads), seconds.
 double cpu_seconds() {
   timespec t{};
@@ -134,7 +113,10 @@ void BM_SphStep(benchmark::State& state) {
   const double cpu = cpu_seconds() - c0;
   const std::vector<StageTiming>& after = sim->stage_timings();
   const double n = static_cast<double>(sim->particles().size());
-  bench::report(state, sim->particles(), solver_bytes(*sim));
+  bench::report(state, sim->particles(), sim->bytes());
+  // The parts of bytes/particle: the store's columns, the search (lists, cells, sort buffers).
+  state.counters["columns_B"] = bench::column_bytes_per_particle(sim->particles());
+  state.counters["search_B"] = static_cast<double>(sim->neighbours().bytes()) / n;
   const double steps = static_cast<double>(state.iterations());
   for (std::size_t s = 0; s < after.size(); ++s) {
     state.counters[after[s].name + "_ns"] =

@@ -146,21 +146,41 @@ inline double distance2(double dx, double dy, double dz) {
 #endif
 }
 
-// The entries of i's list (nb, count) within support at the current positions,
-// |x_i - x_j| < h_i + h_j by the neighbour search's own expression (src/sph/neighbours.cpp),
-// written in list order to `active` (room for count entries); returns how many. A list with a
-// Verlet skin compacts to exactly the list a search without the skin makes. Branch-free.
+// i's Verlet list (list, count) rearranged in place: its entries within support at the current
+// positions, |x_i - x_j| < h_i + h_j by the neighbour search's own expression
+// (src/sph/neighbours.cpp), first and in ascending index order (the compacted list: exactly the
+// list a search without the skin makes), then the others (the skin's entries, in an order of no
+// meaning). Returns how many are within support. On entry the first `sorted` entries must be in
+// ascending order (a list as a build or NeighbourSearch::permute leaves it: sorted = count; or
+// as this function left it: sorted = its last return); the rest may be in any order. `rest` is
+// scratch with room for count + 8 entries. The compacted list then needs no storage of its own
+// (it had 4 B per list entry, ~300 B per point in the benchmark's cube, session 20).
+//
+// While every entry keeps the status it had (within support iff before `sorted`), nothing is
+// written: the list is already in its final order (in a slow flow most lists end so). From the
+// first entry that changed, the kept entries are moved to the front (m <= k) and the others to
+// `rest`, which is copied back behind them at the end; kept entries from the unsorted part
+// (pairs that came within support since the last call: few) are then sorted in by insertion.
 //
 // The distance test is distance2's, in the lanes too, so that both paths decide every pair alike
-// and as before. With AVX-512 (VL) the list is
-// taken 8 entries at a time: the neighbours' x, y, z, h gathered into lanes, the indices of the
-// pairs within support compressed in a register (vpcompressd; its store form is slow on Zen 4)
-// and stored as 8 lanes at the current end (m <= k, so the lanes past the kept ones stay inside
-// this list's slots and are overwritten or unused).
-inline std::size_t compact_within_support(const PairInputs& in, const std::uint32_t* nb,
-                                          std::size_t count, std::size_t i, std::uint32_t* active) {
+// and as before. With AVX-512 (VL) the list is taken 8 entries at a time: the neighbours' x, y,
+// z, h gathered into lanes, the test as a mask, the indices compressed in a register (vpcompressd;
+// its store form is slow on Zen 4) and stored as 8 lanes at the current ends (the lanes past the
+// kept ones stay inside the 8 entries just read).
+inline std::size_t partition_within_support(const PairInputs& in, std::uint32_t* list,
+                                            std::size_t count, std::size_t sorted, std::size_t i,
+                                            std::uint32_t* rest) {
   const double xi = in.x[i], yi = in.y[i], zi = in.z[i], hi = in.h[i];
-  std::size_t m = 0, k = 0;
+  // m: entries kept so far, o: others in `rest`, k: the next entry; m_sorted: how many of the
+  // kept come from the sorted part (set when k reaches it). While `same`, list[0, m) are the kept
+  // entries and list[m, k) the others, in place.
+  std::size_t m = 0, o = 0, k = 0, m_sorted = count + 1;
+  bool same = true;
+  const auto diverge = [&] {
+    std::copy(list + m, list + k, rest);
+    o = k - m;
+    same = false;
+  };
 #if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__FMA__)
   const __m512d XI = _mm512_set1_pd(xi), YI = _mm512_set1_pd(yi), ZI = _mm512_set1_pd(zi),
                 HI = _mm512_set1_pd(hi);
@@ -169,26 +189,64 @@ inline std::size_t compact_within_support(const PairInputs& in, const std::uint3
                           col[j[6]], col[j[7]]);
   };
   for (; k + 8 <= count; k += 8) {
-    const std::uint32_t* j = nb + k;
+    const std::uint32_t* j = list + k;
     const __m512d dx = _mm512_sub_pd(XI, lanes(in.x, j));
     const __m512d dy = _mm512_sub_pd(YI, lanes(in.y, j));
     const __m512d dz = _mm512_sub_pd(ZI, lanes(in.z, j));
     const __m512d reach = _mm512_add_pd(HI, lanes(in.h, j));
     const __m512d r2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dx, dx, _mm512_mul_pd(dy, dy)));
     const __mmask8 within = _mm512_cmp_pd_mask(r2, _mm512_mul_pd(reach, reach), _CMP_LT_OQ);
+    // The lanes before `sorted`: those within support at the last call.
+    const auto was = static_cast<__mmask8>(
+        sorted >= k + 8 ? 0xffu : (sorted > k ? (1u << (sorted - k)) - 1u : 0u));
+    if (sorted >= k && sorted < k + 8) {
+      m_sorted = m + static_cast<std::size_t>(__builtin_popcount(within & was));
+    }
+    const auto kept = static_cast<std::size_t>(__builtin_popcount(within));
+    if (same) {
+      if (within == was) {
+        m += kept;
+        continue;
+      }
+      diverge();
+    }
     const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(j));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(active + m),
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(list + m),
                         _mm256_maskz_compress_epi32(within, idx));
-    m += static_cast<std::size_t>(__builtin_popcount(within));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(rest + o),
+                        _mm256_maskz_compress_epi32(static_cast<__mmask8>(~within), idx));
+    m += kept;
+    o += 8 - kept;
   }
 #endif
   for (; k < count; ++k) {
-    const std::uint32_t j = nb[k];
+    if (k == sorted) m_sorted = m;
+    const std::uint32_t j = list[k];
     const double dx = xi - in.x[j], dy = yi - in.y[j], dz = zi - in.z[j];
     const double reach = hi + in.h[j];
-    active[m] = j;
-    m += distance2(dx, dy, dz) < reach * reach ? 1 : 0;
+    const std::size_t kept = distance2(dx, dy, dz) < reach * reach ? 1 : 0;
+    if (same) {
+      if (kept == (k < sorted ? 1u : 0u)) {
+        m += kept;
+        continue;
+      }
+      diverge();
+    }
+    list[m] = j;
+    rest[o] = j;
+    m += kept;
+    o += 1 - kept;
   }
+  if (same) return m;
+  // The kept entries of the sorted part, list[0 .. m_sorted), are in ascending order; those of
+  // the unsorted part follow: insertion from there.
+  for (std::size_t t = std::max<std::size_t>(1, std::min(m_sorted, m)); t < m; ++t) {
+    const std::uint32_t j = list[t];
+    std::size_t u = t;
+    for (; u > 0 && list[u - 1] > j; --u) list[u] = list[u - 1];
+    list[u] = j;
+  }
+  std::copy(rest, rest + o, list + m);
   return m;
 }
 

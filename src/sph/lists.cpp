@@ -15,7 +15,7 @@ namespace shatter::sph {
 // Real particles; make_ghosts() extends the per-point arrays for the images (within the
 // capacity once the image count stops growing: no allocation).
 void SphSolver::Impl::resize(std::size_t n) {
-  for (auto* v : {&h, &h_mid, &ax, &ay, &az, &heat, &mu, &kick_heat}) v->resize(n);
+  for (auto* v : {&h, &h_mid, &ax, &ay, &az, &heat, &mu}) v->resize(n);
   for (auto& v : a_stress) v.resize(n);
 }
 
@@ -108,6 +108,7 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
   std::copy(X[2], X[2] + n, zb.begin());
   std::copy(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n), hb.begin());
   lists_valid = true;
+  lists_sorted = true;
   ++builds;
 }
 
@@ -166,11 +167,11 @@ void SphSolver::Impl::permute_lists() {
   const std::size_t g = ghosts.size();
   renumber.resize(n + g);
   for (std::size_t k = 0; k < n; ++k) renumber[order[k]] = static_cast<std::uint32_t>(k);
-  // Build state: new k from old order[k] (rho_n as the scratch copy, as permute_switch does).
-  rho_n.resize(n);
+  // Build state: new k from old order[k] (heat as the scratch copy, as permute_switch does: the
+  // forces pass after the re-order rewrites it).
   for (auto* v : {&xb, &yb, &zb, &hb, &skin}) {
-    for (std::size_t k = 0; k < n; ++k) rho_n[k] = (*v)[order[k]];
-    std::copy(rho_n.begin(), rho_n.begin() + static_cast<std::ptrdiff_t>(n), v->begin());
+    for (std::size_t k = 0; k < n; ++k) heat[k] = (*v)[order[k]];
+    std::copy(heat.begin(), heat.begin() + static_cast<std::ptrdiff_t>(n), v->begin());
   }
   // The images: sources renumbered, then sorted by (source, sides in make_ghosts' order); the
   // old image n + k becomes n + its rank. kept_ghosts (the bin's images, no longer needed)
@@ -202,6 +203,7 @@ void SphSolver::Impl::permute_lists() {
     place_ghosts();
   }
   search.permute(order, renumber);
+  lists_sorted = true;
 }
 
 // Steps 5-6 of the header: a pure function of the columns (and of the step count, which picks

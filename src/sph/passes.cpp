@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <type_traits>
 
 #include <tbb/parallel_for.h>
 
@@ -43,14 +42,14 @@ void SphSolver::Impl::constrain_velocities(double t_half) {
   s.energy_.boundary_work += before - kinetic_energy(s.particles_);
 }
 
-// The kick's viscous heat (made in the rates pass) into the energy at t^n, before the material
-// update reads it.
+// The kick's viscous heat (made in the rates pass, in `heat`) into the energy at t^n, before the
+// material update reads it.
 void SphSolver::Impl::heat_from_kick() {
   ParticleStore& P = s.particles_;
   double* e = P.col(Field::energy).data();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t p = r.begin(); p < r.end(); ++p) e[p] += kick_heat[p];
+                      for (std::size_t p = r.begin(); p < r.end(); ++p) e[p] += heat[p];
                     });
 }
 
@@ -104,15 +103,14 @@ void SphSolver::Impl::rates(double dt, double dt_kick) {
                              .ay = ay.data(),
                              .az = az.data(),
                              .dt_kick = dt_kick,
-                             .heat = kick_heat.data()};
+                             .heat = heat.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P.size(), kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
                         // The pairs within support at x^n and h^n, compacted by the forces
                         // pass of the last step (or of the constructor or restore()).
-                        ks::rates_particle<simd::Batch>(in, active.data() + search.offset(i),
-                                                        active_count[i], i, dt, out, kick,
-                                                        pair_at[i]);
+                        ks::rates_particle<simd::Batch>(in, search.begin_of(i), active_count[i], i,
+                                                        dt, out, kick, pair_at[i]);
                       }
                     });
 }
@@ -139,42 +137,42 @@ void SphSolver::Impl::drift(double dt) {
                     });
 }
 
-// Each list compacted to its pairs within support (a Verlet list's skin entries dropped), which
-// the forces pass and the next step's rates pass use: it runs at these same positions and h. The
-// viscous weights are kept for those pairs only (pair_at: where each particle's start), 53
-// instead of 75 per particle in the benchmark's cube.
+// Each list re-arranged so that its pairs within support come first, in ascending index order
+// (a Verlet list's skin entries after them), which the forces pass and the next step's rates
+// pass use: it runs at these same positions and h. The viscous weights are kept for those pairs
+// only (pair_at: where each particle's start), 53 instead of 75 per particle in the benchmark's
+// cube.
 void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
   const std::size_t n = s.particles_.size();
-  // Room for the pairs, grown by an eighth when short (as the search's list buffers). Growing
-  // to the exact count re-allocated (and copied) both arrays at nearly every list build and
-  // every step of a compressing flow: in the laboratory impact that copy and its page faults
-  // were 15 % of the run (docs/performance.md, SPH round 5). Neither array's content is kept
-  // across the growth (both are rewritten before they are read), so the old one is dropped
-  // before the new one is made.
-  const auto grow = [](auto& v, std::size_t size) {
-    if (v.size() >= size) return;
-    if (v.capacity() < size) {
-      const std::size_t cap = std::max(size, v.capacity() + v.capacity() / 8);
-      std::remove_reference_t<decltype(v)>().swap(v);
-      v.reserve(cap);
-    }
-    v.resize(size);
-  };
-  grow(active, search.pairs());
   active_count.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::vector<std::uint32_t>& scratch = rest.local();
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        const std::size_t m =
-                            ks::compact_within_support(in, search.begin_of(i), search.count(i), i,
-                                                       active.data() + search.offset(i));
-                        active_count[i] = static_cast<std::uint32_t>(m);
+                        const std::size_t count = search.count(i);
+                        if (scratch.size() < count + 8) scratch.resize(count + 8);
+                        const std::size_t sorted = lists_sorted ? count : active_count[i];
+                        active_count[i] = static_cast<std::uint32_t>(ks::partition_within_support(
+                            in, search.rearrange(i), count, sorted, i, scratch.data()));
                       }
                     });
+  lists_sorted = false;
   pair_at.resize(n + 1);
   pair_at[0] = 0;
   for (std::size_t i = 0; i < n; ++i) pair_at[i + 1] = pair_at[i] + active_count[i];
-  grow(pair_w, pair_at[n]);
+  // Room for the weights, grown by an eighth when short (as the search's list buffers). Growing
+  // to the exact count re-allocated (and copied) at nearly every list build and every step of a
+  // compressing flow: in the laboratory impact that copy and its page faults were 15 % of the
+  // run (docs/performance.md, SPH round 5). The content is not kept across the growth (it is
+  // rewritten before it is read), so the old array is dropped before the new one is made.
+  if (pair_w.size() < pair_at[n]) {
+    if (pair_w.capacity() < pair_at[n]) {
+      const std::size_t cap = std::max(pair_at[n], pair_w.capacity() + pair_w.capacity() / 8);
+      std::vector<double>().swap(pair_w);
+      pair_w.reserve(cap);
+    }
+    pair_w.resize(pair_at[n]);
+  }
 }
 
 void SphSolver::Impl::forces() {
@@ -214,8 +212,8 @@ void SphSolver::Impl::forces() {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kPairGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        ks::forces_particle<simd::Batch>(in, f, active.data() + search.offset(i),
-                                                         active_count[i], i, out, pair_at[i]);
+                        ks::forces_particle<simd::Batch>(in, f, search.begin_of(i), active_count[i],
+                                                         i, out, pair_at[i]);
                       }
                     });
   if (s.config_.self_gravity.self) add_self_gravity();

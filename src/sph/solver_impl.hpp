@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
@@ -97,8 +98,10 @@ struct SphSolver::Impl {
   tbb::task_arena arena;
   NeighbourSearch search;
   // Real particles 0 .. n-1, then mirror particles n .. n+g-1 (h, h_mid, ax, ay, az, a_stress
-  // and the e* copies have n + g entries; heat, mu and kick_heat n).
-  AlignedVector<double> h, h_mid, ax, ay, az, heat, mu, kick_heat;
+  // and the e* copies have n + g entries; heat and mu n). `heat` is written by the forces pass
+  // and read by energy() at the end of the same step; between those it is free, and holds the
+  // kick's viscous heat in the rates pass and serves as the re-order's scratch column.
+  AlignedVector<double> h, h_mid, ax, ay, az, heat, mu;
   // Boundaries (DESIGN.md "The SPH step", boundaries): faces that reflect (symmetry, slip) and
   // faces that let particles out (outflow).
   std::array<bool, 6> mirror_face{}, outflow_face{};
@@ -108,10 +111,13 @@ struct SphSolver::Impl {
   // With mirror particles the gather passes read these copies of the columns (real particles,
   // then their images); without, they read the columns themselves.
   AlignedVector<double> ex, ey, ez, evx, evy, evz, em, erho, ec;
-  // Per neighbour-list entry: the pairs within support at the last forces pass, compacted to the
-  // front of each list's slots (active_count[i] of them), and their viscous weights
-  // (viscous_heating_term).
-  std::vector<std::uint32_t> active, active_count;
+  // The pairs within support at the last forces pass: the first active_count[i] entries of i's
+  // Verlet list, in ascending order (compact_lists re-arranges each list in place); whether the
+  // lists are as a build or permute left them (ascending throughout); scratch per thread for the
+  // re-arrangement; and the pairs' viscous weights (viscous_heating_term).
+  std::vector<std::uint32_t> active_count;
+  bool lists_sorted = false;
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rest;
   std::vector<std::size_t> pair_at;  // n + 1: particle i's weights are pair_w[pair_at[i]...]
   std::vector<double> pair_w;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2

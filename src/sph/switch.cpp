@@ -43,9 +43,10 @@ void SphSolver::Impl::evolve_switch(double dt) {
 void SphSolver::Impl::permute_switch() {
   if (!switch_on) return;
   const std::size_t n = s.particles_.size();
-  rho_n.resize(n);
-  for (std::size_t k = 0; k < n; ++k) rho_n[k] = alpha[order[k]];
-  std::copy(rho_n.begin(), rho_n.end(), alpha.begin());
+  // heat as the scratch copy (free in the search stage: the forces pass rewrites it).
+  heat.resize(n);
+  for (std::size_t k = 0; k < n; ++k) heat[k] = alpha[order[k]];
+  std::copy(heat.begin(), heat.begin() + static_cast<std::ptrdiff_t>(n), alpha.begin());
 }
 
 // After the outflow removed the particles marked in `leaving` (of the n before it): their alpha

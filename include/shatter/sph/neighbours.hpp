@@ -10,9 +10,10 @@
 // is in ascending index order: canonical, independent of the cells, the skin and the thread
 // count, so a gather over a list with a skin (whose extra entries the forces pass compacts away)
 // sums the same terms in the same order as over a fresh list without one, and the sums have the
-// same bits. Buffers are reused: a build allocates only while a buffer grows past its largest size
-// so far (the lists are gathered in one pass per chunk of points into per-chunk buffers, where
-// they stay), so a run stops allocating once its neighbour counts stop growing.
+// same bits (a caller may re-arrange a list in place: rearrange()). Buffers are reused: a build
+// allocates only while a buffer grows past its largest size so far (the lists are gathered in one
+// pass per chunk of points into per-chunk buffers, where they stay), so a run stops allocating once
+// its neighbour counts stop growing.
 
 #include <cstddef>
 #include <cstdint>
@@ -53,6 +54,10 @@ class NeighbourSearch {
   // Neighbours of point i < lists() (i itself excluded).
   std::span<const std::uint32_t> of(std::size_t i) const { return {begin_[i], count(i)}; }
   const std::uint32_t* begin_of(std::size_t i) const { return begin_[i]; }
+  // Point i's list for re-arranging in place, the same entries in another order (the SPH solver
+  // moves the pairs within support to the front: kernels::sph::partition_within_support). of()
+  // then gives them in that order; a build or permute() makes the lists ascending again.
+  std::uint32_t* rearrange(std::size_t i) { return const_cast<std::uint32_t*>(begin_[i]); }
   std::size_t count(std::size_t i) const { return offsets_[i + 1] - offsets_[i]; }
   // Index of point i's first entry in the lists concatenated in index order (for per-pair
   // data, which the passes then stream in their own order).

@@ -81,6 +81,9 @@ class SphSolver final : public Solver {
 
   // The neighbour lists at the current positions, and the smoothing lengths they used.
   const NeighbourSearch& neighbours() const;
+  // Bytes the solver holds besides the particle store (capacities): its per-point arrays, the
+  // search's lists, cells and buffers, the per-pair viscous weights and its scratch.
+  std::size_t bytes() const;
   // Neighbour-list builds so far (with a Verlet skin, fewer than steps).
   std::uint64_t neighbour_builds() const;
   std::span<const double> smoothing_length() const;

@@ -298,5 +298,67 @@ TEST(GatherPasses, SimdLanesMatchTheScalarReference) {
               simd::kWidth, worst);
 }
 
+// The compaction of a Verlet list in place: after each call the list's first m entries are
+// exactly its pairs within support (distance2 < (h_i + h_j)^2) in ascending order, what a
+// search without the skin lists, and the list holds the same entries as before. Several calls
+// as the points move, each starting from the order the last one left (pairs entering and
+// leaving support between calls), as the solver makes them.
+TEST(GatherPasses, VerletListPartitionKeepsThePairsWithinSupportInAscendingOrder) {
+  Block B(7, 1e-3, 2700.0);
+  const std::size_t N = B.x.size();
+  std::mt19937_64 rng(35);
+  std::uniform_real_distribution<double> jitter(-0.15e-3, 0.15e-3);
+  // Lists with a skin of 40 % of 2 h: the entries within 1.4 (h_i + h_j), ascending.
+  std::vector<std::vector<std::uint32_t>> list(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    for (std::size_t j = 0; j < N; ++j) {
+      const double reach = 1.4 * (B.h[i] + B.h[j]);
+      if (j != i && distance2(B.x[i] - B.x[j], B.y[i] - B.y[j], B.z[i] - B.z[j]) < reach * reach) {
+        list[i].push_back(static_cast<std::uint32_t>(j));
+      }
+    }
+  }
+  std::vector<std::size_t> sorted(N);
+  for (std::size_t i = 0; i < N; ++i) sorted[i] = list[i].size();
+  std::vector<std::uint32_t> rest;
+  std::size_t entered = 0;
+  for (int call = 0; call < 6; ++call) {
+    // Every third call at the same positions: nothing changes status (the list is left as it is).
+    for (std::size_t p = 0; p < (call % 3 == 2 ? 0 : N); ++p) {
+      B.x[p] += jitter(rng);
+      B.y[p] += jitter(rng);
+      B.z[p] += jitter(rng);
+    }
+    const PairInputs in = B.inputs();
+    for (std::size_t i = 0; i < N; ++i) {
+      std::vector<std::uint32_t> want;
+      for (const std::uint32_t j : list[i]) {
+        const double reach = B.h[i] + B.h[j];
+        if (distance2(B.x[i] - B.x[j], B.y[i] - B.y[j], B.z[i] - B.z[j]) < reach * reach) {
+          want.push_back(j);
+        }
+      }
+      std::sort(want.begin(), want.end());
+      for (std::size_t k = sorted[i]; k < list[i].size(); ++k) {
+        entered += std::binary_search(want.begin(), want.end(), list[i][k]) ? 1 : 0;
+      }
+      std::vector<std::uint32_t> before = list[i];
+      rest.assign(list[i].size() + 8, 0);
+      const std::size_t m =
+          partition_within_support(in, list[i].data(), list[i].size(), sorted[i], i, rest.data());
+      ASSERT_EQ(m, want.size()) << "point " << i << ", call " << call;
+      EXPECT_TRUE(std::equal(want.begin(), want.end(), list[i].begin()))
+          << "point " << i << ", call " << call;
+      std::vector<std::uint32_t> after = list[i];
+      std::sort(before.begin(), before.end());
+      std::sort(after.begin(), after.end());
+      EXPECT_EQ(after, before) << "the list lost or gained entries: point " << i;
+      sorted[i] = m;
+    }
+  }
+  // The calls must have met pairs that came within support from the unsorted part.
+  EXPECT_GT(entered, N);
+}
+
 }  // namespace
 }  // namespace shatter::kernels::sph
