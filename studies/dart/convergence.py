@@ -25,12 +25,16 @@ derived by studies/dart/raducan2019_beta.py):
     growth would give if it went on at the fitted rate: upper-side estimates when the local
     exponent falls. Printed: A, k, the rms residual in beta, and the values at T of --at.
 
+With --until T the run is cut at T (its time series and launches after T left out): fitting a
+run cut at 0.3 s and comparing the extrapolation with the run's own later values tests the
+extrapolation.
+
 With --plot FILE.png: beta_launch(t) of every run (log time) with iSALE's final beta dotted and
 the fits dashed beyond each run's end; below, the local exponent d ln(beta_launch - 1) / d ln t
 (over a factor 1.25 in t). With --csv FILE the per-run table.
 
 Usage: convergence.py REFERENCE.csv RUN=C:P:F:CPPR[:CPU] [...] [--tracers PATH] [--fit]
-       [--windows 0.5 0.6 0.7 0.8] [--at 0.6 1 5] [--plot F.png] [--csv F.csv]
+       [--windows 0.5 0.6 0.7 0.8] [--at 0.6 1 5] [--until T] [--plot F.png] [--csv F.csv]
 """
 
 import argparse
@@ -55,16 +59,20 @@ def read_reference(path):
             for r in rows if r["series"] == "Porosity" or float(r["friction"]) != 0.6}
 
 
-def read_run(run):
+def read_run(run, until=None):
     with open(os.path.join(run, "timeseries.csv")) as f:
         ts = [(float(r["time_s"]), float(r["beta_launch"]), float(r["energy_error"]))
               for r in csv.DictReader(f) if r.get("beta_launch") and r.get("wall_s")]
+    if until is not None:
+        ts = [r for r in ts if r[0] <= until + 1e-12]
     ts.sort()
     with open(os.path.join(run, "ejecta_launch.csv")) as f:
         meta = dict(kv.split("=") for kv in f.readline().lstrip("# ").split())
         launches = [(float(r["mass_kg"]), float(r["speed_m_per_s"]),
                      float(r["normal_speed_m_per_s"]), float(r["launch_time_s"]))
                     for r in csv.DictReader(f)]
+    if until is not None:
+        launches = [r for r in launches if r[3] <= until + 1e-12]
     return ts, float(meta["impactor_mass_kg"]), float(meta["impact_speed_m_per_s"]), launches
 
 
@@ -137,7 +145,7 @@ def tracer_file(root, key):
 
 
 def analyse(run, key, ref_row, a):
-    ts, m_imp, u, launches = read_run(run)
+    ts, m_imp, u, launches = read_run(run, a.until)
     t_end, b_end, e_end = ts[-1]
     row = {"t_end_s": t_end, "beta_launch": b_end, "isale_beta": float(ref_row["beta"]),
            "difference_pct": 100.0 * (b_end / float(ref_row["beta"]) - 1.0),
@@ -200,6 +208,7 @@ def main():
     ap.add_argument("--fit", action="store_true", help="fit beta - 1 = A t^k (an extrapolation)")
     ap.add_argument("--windows", nargs="+", type=float, default=[0.5, 0.6, 0.7, 0.8])
     ap.add_argument("--at", nargs="+", type=float, default=[0.6, 1.0, 5.0])
+    ap.add_argument("--until", type=float, help="cut every run at this time (s)")
     ap.add_argument("--plot")
     ap.add_argument("--csv")
     a = ap.parse_args()
