@@ -30,7 +30,7 @@ run cut at 0.3 s and comparing the extrapolation with the run's own later values
 extrapolation.
 
 With --plot FILE.png: beta_launch(t) of every run (log time) with iSALE's final beta dotted and
-the fits dashed beyond each run's end; below, the local exponent d ln(beta_launch - 1) / d ln t
+the fit over the last of --windows dashed beyond each run's end; below, the local exponent d ln(beta_launch - 1) / d ln t
 (over a factor 1.25 in t). With --csv FILE the per-run table.
 
 Usage: convergence.py REFERENCE.csv RUN=C:P:F:CPPR[:CPU] [...] [--tracers PATH] [--fit]
@@ -278,7 +278,7 @@ def plot(curves, path):
     ax.set_xscale("log")
     pc.label(ax, None, "beta_launch")
     ax.set_title("beta_launch(t), r-z MPM; dotted: iSALE final (5 s); dashed: fit A t^k of the "
-                 "last fifth, extrapolated", fontsize=8)
+                 "last --windows window, extrapolated", fontsize=8)
     pc.legend(ax, loc="upper left")
     ax_k.set_xlabel("time (s)")
     ax_k.set_ylabel("d ln(beta_launch - 1) / d ln t", fontsize=8)
