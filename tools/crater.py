@@ -125,14 +125,17 @@ def geometry(run_dir, first_cols, symmetry=-1, surface=None):
     tb = scene["body"].get(names[target], {}) if names else {}
     spacing = h / float(tb.get("points_per_cell", 2))
     others = [n for i, n in enumerate(names) if i != target and n in scene["body"]]
-    imp = scene["body"].get(scene.get("beta", {}).get("impactor") or (others or [""])[0], {})
+    imp_name = scene.get("beta", {}).get("impactor") or (others or [""])[0]
+    imp = scene["body"].get(imp_name, {})
     vel = np.asarray(imp.get("velocity", [np.nan] * 3), float)
     if np.all(np.isfinite(vel)) and np.hypot(vel[0], vel[1]) > 1e-6 * abs(vel[2]):
         sys.exit(f"{run_dir}: the impactor's velocity {list(vel)} is not along -z: crater.py "
                  "measures head-on craters only")
     axis = (0.0, 0.0)
     if not rz:
-        sel = body != target
+        # The impactor's own points when its name is known: other bodies (a boulder field)
+        # spread over the target and would move the axis.
+        sel = body == names.index(imp_name) if imp_name in names else body != target
         axis = (float(np.average(first_cols["x"][sel], weights=first_cols["mass"][sel])),
                 float(np.average(first_cols["y"][sel], weights=first_cols["mass"][sel])))
         if symmetry in (0, 1):  # a half model: the impact axis lies in its symmetry plane

@@ -417,12 +417,14 @@ def test_qstar_plot_draws_curves_and_variants(tmp_path):
     assert (tmp_path / "old.png").stat().st_size > 10000
 
 
-def write_crater_run(run, rz, centre_xy=(0.0, 0.0), h=0.1, depth=0.8, radius=1.0):
+def write_crater_run(run, rz, centre_xy=(0.0, 0.0), h=0.1, depth=0.8, radius=1.0, boulders=False):
     """A run folder with a known crater: a lattice half-space (points spaced s = h/2, top at
     z = 0) struck along -z at centre_xy; snapshot 0 the intact target with the impactor above it,
     snapshot 1 the target with a paraboloid cavity z >= -depth (1 - r^2 / radius^2) removed and
     the impactor's points thrown 3 m up (ejecta in flight: not surface). r-z: x is r; 3-D: a
-    half model (y >= 0) with the crater's axis at centre_xy."""
+    half model (y >= 0) with the crater's axis at centre_xy. boulders: a third body, 40 points
+    deep under the floor 1.5 m off the axis (a boulder field's body), which must not move the
+    impact axis."""
     import h5py
     import numpy as np
     s = h / 2.0
@@ -447,20 +449,26 @@ def write_crater_run(run, rz, centre_xy=(0.0, 0.0), h=0.1, depth=0.8, radius=1.0
     impactor = np.array([[centre_xy[0] * (not rz), 0.0 if rz else s / 2, 0.5 + k * s]
                          for k in range(4)])
     (run / "snapshots").mkdir()
+    extra = np.zeros((0, 3))
+    if boulders:
+        extra = np.array([[centre_xy[0] * (not rz) - 1.5 + 0.01 * k, s / 2, -1.35]
+                          for k in range(40)])
+    names = [b"impactor", b"target"] + ([b"target_boulders"] if boulders else [])
     for i, (pts, imp_z) in enumerate([(target, 0.0), (target[~cavity], 3.0)]):
         imp = impactor + [0.0, 0.0, imp_z]
         with h5py.File(run / "snapshots" / f"snapshot_{i:06d}.h5", "w") as f:
             f.attrs["time"] = 1e-3 * i
             f.attrs["symmetry_axis"] = 1 if rz else 2  # r-z: the axis x = 0; 3-D: the plane y = 0
-            f["particles/position"] = np.concatenate([imp, pts])
-            f["particles/body"] = np.array([0] * len(imp) + [1] * len(pts), dtype=np.int64)
-            f["particles/mass"] = np.ones(len(imp) + len(pts))
-            f["names/body"] = np.array([b"impactor", b"target"])
+            f["particles/position"] = np.concatenate([imp, pts, extra])
+            f["particles/body"] = np.array([0] * len(imp) + [1] * len(pts) + [2] * len(extra),
+                                           dtype=np.int64)
+            f["particles/mass"] = np.ones(len(imp) + len(pts) + len(extra))
+            f["names/body"] = np.array(names)
             f["names/material"] = np.array([b"al", b"rock"])
 
 
-@pytest.mark.parametrize("rz", [True, False])
-def test_crater_measures_a_known_paraboloid(tmp_path, rz):
+@pytest.mark.parametrize("rz,boulders", [(True, False), (False, False), (False, True)])
+def test_crater_measures_a_known_paraboloid(tmp_path, rz, boulders):
     """tools/crater.py on a hand-built crater (write_crater_run): depth 0.8 m, diameter 2 m,
     volume pi R^2 d / 2 = 1.2566 m^3 of a paraboloid. Tolerances from the measure's
     discretisation: the profile's top is exact to half a point spacing (s/2 = 0.025 m) in z, so
@@ -469,7 +477,7 @@ def test_crater_measures_a_known_paraboloid(tmp_path, rz):
     s/2). A wrong weight (2 pi r dr vs dr), unit or surface level misses these by far more."""
     import numpy as np
     run = tmp_path / "run"
-    write_crater_run(run, rz, centre_xy=(0.3, 0.0))
+    write_crater_run(run, rz, centre_xy=(0.3, 0.0), boulders=boulders)
     r = run_tool_crater(run, "--csv", str(tmp_path / "c.csv"))
     assert r.returncode == 0, r.stderr
     assert "pre-impact surface z = 0 m" in r.stderr, r.stderr
