@@ -148,6 +148,25 @@ std::optional<Vec3> draw_centre(Draw& d, const Bounds& box, double r, const Boul
   return c;
 }
 
+// Calls f(i, j, k) for every bucket cell the sphere's bounding box touches, until f returns true;
+// returns whether one did.
+template <class F>
+bool for_each_cell(const Sphere& s, double cell, F&& f) {
+  std::array<std::int64_t, 3> a{}, b{};
+  for (int d = 0; d < 3; ++d) {
+    a[d] = static_cast<std::int64_t>(std::floor((s.centre[d] - s.radius) / cell));
+    b[d] = static_cast<std::int64_t>(std::floor((s.centre[d] + s.radius) / cell));
+  }
+  for (std::int64_t k = a[2]; k <= b[2]; ++k) {
+    for (std::int64_t j = a[1]; j <= b[1]; ++j) {
+      for (std::int64_t i = a[0]; i <= b[0]; ++i) {
+        if (f(i, j, k)) return true;
+      }
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 SphereSet::SphereSet(double cell) : cell_(cell) {}
@@ -167,19 +186,11 @@ void SphereSet::add(const Sphere& s) {
     bounds_.lo = bounds_.lo.cwiseMin(lo);
     bounds_.hi = bounds_.hi.cwiseMax(hi);
   }
-  std::array<std::int64_t, 3> a{}, b{};
-  for (int d = 0; d < 3; ++d) {
-    a[d] = static_cast<std::int64_t>(std::floor(lo[d] / cell_));
-    b[d] = static_cast<std::int64_t>(std::floor(hi[d] / cell_));
-  }
-  for (std::int64_t k = a[2]; k <= b[2]; ++k) {
-    for (std::int64_t j = a[1]; j <= b[1]; ++j) {
-      for (std::int64_t i = a[0]; i <= b[0]; ++i) {
-        auto& bucket = grid_[key(i, j, k)];
-        if (bucket.empty() || bucket.back() != id) bucket.push_back(id);
-      }
-    }
-  }
+  for_each_cell(s, cell_, [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    auto& bucket = grid_[key(i, j, k)];
+    if (bucket.empty() || bucket.back() != id) bucket.push_back(id);
+    return false;
+  });
 }
 
 bool SphereSet::contains(const Vec3& p) const {
@@ -195,26 +206,16 @@ bool SphereSet::contains(const Vec3& p) const {
 }
 
 bool SphereSet::overlaps(const Sphere& s) const {
-  const Vec3 lo = s.centre.array() - s.radius, hi = s.centre.array() + s.radius;
-  std::array<std::int64_t, 3> a{}, b{};
-  for (int d = 0; d < 3; ++d) {
-    a[d] = static_cast<std::int64_t>(std::floor(lo[d] / cell_));
-    b[d] = static_cast<std::int64_t>(std::floor(hi[d] / cell_));
-  }
-  for (std::int64_t k = a[2]; k <= b[2]; ++k) {
-    for (std::int64_t j = a[1]; j <= b[1]; ++j) {
-      for (std::int64_t i = a[0]; i <= b[0]; ++i) {
-        const auto it = grid_.find(key(i, j, k));
-        if (it == grid_.end()) continue;
-        for (const std::uint32_t id : it->second) {
-          const Sphere& o = spheres_[id];
-          const double r = o.radius + s.radius;
-          if ((o.centre - s.centre).squaredNorm() <= r * r) return true;
-        }
-      }
+  return for_each_cell(s, cell_, [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    const auto it = grid_.find(key(i, j, k));
+    if (it == grid_.end()) return false;
+    for (const std::uint32_t id : it->second) {
+      const Sphere& o = spheres_[id];
+      const double r = o.radius + s.radius;
+      if ((o.centre - s.centre).squaredNorm() <= r * r) return true;
     }
-  }
-  return false;
+    return false;
+  });
 }
 
 double boulder_volume(const Sphere& s, bool axisymmetric) {
