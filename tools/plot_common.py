@@ -70,6 +70,22 @@ def save(fig, path, dpi=DPI):
     pyplot().close(fig)
 
 
+def write_csv(path, comment, rows, keys=None):
+    """Writes rows (dicts) to path as CSV after one '# comment' line; floats with 5 significant
+    digits; keys: the columns (default: every key, in first-seen order)."""
+    import csv
+    if keys is None:
+        keys = []
+        for r in rows:
+            keys += [k for k in r if k not in keys]
+    with open(path, "w", newline="") as f:
+        f.write(f"# {comment}\n")
+        w = csv.DictWriter(f, fieldnames=keys)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.5g}" if isinstance(v, float) else v) for k, v in r.items()})
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--demo", metavar="FILE.png", help="draw a small figure with the conventions")

@@ -153,14 +153,10 @@ def main():
         print(", ".join(f"{k} {r[k]:.4g}" if isinstance(r[k], float) else f"{k} {r[k]}"
                         for k in keys))
     if args.csv:
-        with open(args.csv, "w", newline="") as f:
-            f.write("# shatter r-z runs of scenes/dart/raducan2019-*.toml against the iSALE-2D beta"
-                    " of Raducan et al. 2019 (Icarus 329; derived from sr516/iSALE_ejecta_data by"
-                    " studies/dart/raducan2019_beta.py); studies/dart/compare_raducan2019.py\n")
-            w = csv.DictWriter(f, fieldnames=keys)
-            w.writeheader()
-            for r in table:
-                w.writerow({k: (f"{v:.5g}" if isinstance(v, float) else v) for k, v in r.items()})
+        pc.write_csv(args.csv, "shatter r-z runs of scenes/dart/raducan2019-*.toml against the "
+                     "iSALE-2D beta of Raducan et al. 2019 (Icarus 329; derived from "
+                     "sr516/iSALE_ejecta_data by studies/dart/raducan2019_beta.py); "
+                     "studies/dart/compare_raducan2019.py", table, keys)
     if args.plot:
         plot(curves, args.plot)
 

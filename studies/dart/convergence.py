@@ -244,17 +244,9 @@ def main():
             print(f"  EXTRAPOLATION fit beta - 1 = A t^k over [{f:g}, 1] t_end: A {A:.4f}, k {k:.4f},"
                   f" rms {rms:.4f}; at " + ", ".join(f"{T:g} s {v:.3f}" for T, v in zip(a.at, vals)))
     if a.csv:
-        keys = list(rows[0].keys())
-        for r in rows[1:]:
-            keys += [k for k in r if k not in keys]
-        with open(a.csv, "w", newline="") as f:
-            f.write("# r-z runs of scenes/dart/raducan2019-*.toml: beta_launch at the end, drift, "
-                    "split by launch speed, against iSALE-2D (Raducan et al. 2019, derived from "
-                    "sr516/iSALE_ejecta_data); studies/dart/convergence.py\n")
-            w = csv.DictWriter(f, fieldnames=keys)
-            w.writeheader()
-            for r in rows:
-                w.writerow({k: (f"{v:.5g}" if isinstance(v, float) else v) for k, v in r.items()})
+        pc.write_csv(a.csv, "r-z runs of scenes/dart/raducan2019-*.toml: beta_launch at the end, "
+                     "drift, split by launch speed, against iSALE-2D (Raducan et al. 2019, derived "
+                     "from sr516/iSALE_ejecta_data); studies/dart/convergence.py", rows)
     if a.plot:
         plot(curves, a.plot)
 
