@@ -146,6 +146,17 @@ inline double distance2(double dx, double dy, double dz) {
 #endif
 }
 
+// list[0 .. sorted) ascending, list[sorted .. end) in any order: the whole ascending, by insertion
+// from `sorted` (few entries there: those that came within support since the last call).
+inline void sort_tail(std::uint32_t* list, std::size_t sorted, std::size_t end) {
+  for (std::size_t t = std::max<std::size_t>(1, sorted); t < end; ++t) {
+    const std::uint32_t j = list[t];
+    std::size_t u = t;
+    for (; u > 0 && list[u - 1] > j; --u) list[u] = list[u - 1];
+    list[u] = j;
+  }
+}
+
 // i's Verlet list (list, count) rearranged in place: its entries within support at the current
 // positions, |x_i - x_j| < h_i + h_j by the neighbour search's own expression
 // (src/sph/neighbours.cpp), first and in ascending index order (the compacted list: exactly the
@@ -238,14 +249,7 @@ inline std::size_t partition_within_support(const PairInputs& in, std::uint32_t*
     o += 1 - kept;
   }
   if (same) return m;
-  // The kept entries of the sorted part, list[0 .. m_sorted), are in ascending order; those of
-  // the unsorted part follow: insertion from there.
-  for (std::size_t t = std::max<std::size_t>(1, std::min(m_sorted, m)); t < m; ++t) {
-    const std::uint32_t j = list[t];
-    std::size_t u = t;
-    for (; u > 0 && list[u - 1] > j; --u) list[u] = list[u - 1];
-    list[u] = j;
-  }
+  sort_tail(list, std::min(m_sorted, m), m);
   std::copy(rest, rest + o, list + m);
   return m;
 }

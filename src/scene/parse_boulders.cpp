@@ -8,33 +8,10 @@
 
 namespace shatter::scene {
 
-std::optional<BodySpec> read_boulders(Reader& body, BodySpec& host, Scene& scene,
-                                      const MaterialCatalogue& catalogue) {
-  body.note_type("boulders", "table");
-  toml::table* t = body.subtable("boulders");
-  if (t == nullptr) return std::nullopt;
-  Reader r(*t, body.key_path("boulders"), body.where("boulders"));
-  r.allow({"material", "volume_fraction", "radius_min", "radius_max", "exponent", "seed",
-           "region_lo", "region_hi", "damage", "placed", "fraction_placed"});
-  r.reject_unknown();
-  const bool rz = scene.solver.geometry == Geometry::axisymmetric;
-  if (scene.symmetry_axis >= 0 && !rz) {  // r-z sets the axis as its symmetry face
-    body.fail("boulders",
-              "a random boulder field has no mirror symmetry: remove solver.symmetry_plane (model "
-              "the whole body)");
-  }
-  if (body.has("mass")) {
-    body.fail("boulders",
-              "is given with the body's mass: the mass would fix the density of the "
-              "host before its boulders are cut out; give one of them");
-  }
+namespace {
 
-  BodySpec b;
-  b.name = host.name + "_boulders";
-  b.where = body.where("boulders");
-  b.material = read_material(r, catalogue);
-  r.note_default("material", "*required*");
-
+// The field's keys (volume fraction, sizes, seed, region), checked; the placement's inputs.
+BoulderParams read_params(Reader& r, const BodySpec& host, const Scene& scene) {
   BoulderParams p;
   p.volume_fraction = r.number("volume_fraction");
   r.note_range("volume_fraction", "(0, 0.6]; of the host's volume (inside the region)");
@@ -77,9 +54,42 @@ std::optional<BodySpec> read_boulders(Reader& body, BodySpec& host, Scene& scene
       r.fail("region_hi", "must exceed region_lo on every axis");
     p.region = Bounds{*lo, *hi};
   }
-  p.axisymmetric = rz;
+  p.axisymmetric = scene.solver.geometry == Geometry::axisymmetric;
   p.spacing = host.spacing;
   p.stream = host.name;
+  return p;
+}
+
+}  // namespace
+
+std::optional<BodySpec> read_boulders(Reader& body, BodySpec& host, Scene& scene,
+                                      const MaterialCatalogue& catalogue) {
+  body.note_type("boulders", "table");
+  toml::table* t = body.subtable("boulders");
+  if (t == nullptr) return std::nullopt;
+  Reader r(*t, body.key_path("boulders"), body.where("boulders"));
+  r.allow({"material", "volume_fraction", "radius_min", "radius_max", "exponent", "seed",
+           "region_lo", "region_hi", "damage", "placed", "fraction_placed"});
+  r.reject_unknown();
+  const bool rz = scene.solver.geometry == Geometry::axisymmetric;
+  if (scene.symmetry_axis >= 0 && !rz) {  // r-z sets the axis as its symmetry face
+    body.fail("boulders",
+              "a random boulder field has no mirror symmetry: remove solver.symmetry_plane (model "
+              "the whole body)");
+  }
+  if (body.has("mass")) {
+    body.fail("boulders",
+              "is given with the body's mass: the mass would fix the density of the "
+              "host before its boulders are cut out; give one of them");
+  }
+
+  BodySpec b;
+  b.name = host.name + "_boulders";
+  b.where = body.where("boulders");
+  b.material = read_material(r, catalogue);
+  r.note_default("material", "*required*");
+
+  const BoulderParams p = read_params(r, host, scene);
   read_damage(r, b, scene);
 
   BoulderField field;

@@ -11,8 +11,10 @@
 namespace shatter::mpm {
 namespace {
 
+// The kernel's inputs: the columns, this step's time steps, the filter's target velocity and
+// the FLIP velocity kept for the filter's heat (TransferPolicy).
 template <class Shape>
-void g2p(State& s) {
+kernels::G2PParticles g2p_setup(State& s) {
   ParticleStore& P = s.particles;
   Scratch& sc = s.scratch;
   kernels::G2PParticles in = g2p_inputs(P, s.inv_h(), sc.dx.data(), sc.dy.data(), sc.dz.data());
@@ -32,6 +34,14 @@ void g2p(State& s) {
     in.flip_vy = sc.flip_vy.data();
     in.flip_vz = sc.flip_vz.data();
   }
+  return in;
+}
+
+template <class Shape>
+void g2p(State& s) {
+  ParticleStore& P = s.particles;
+  Scratch& sc = s.scratch;
+  const kernels::G2PParticles in = g2p_setup<Shape>(s);
   const double* mass = P.col(Field::mass).data();
   const double half_dt_prev = 0.5 * s.clock.dt_prev;
   const Vec3 g = s.config.gravity;
