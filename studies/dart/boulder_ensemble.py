@@ -83,7 +83,6 @@ def fields(runs, column):
 
 
 def draw(runs, ref, column, out):
-    plt = pc.pyplot()
     fig, (a0, a1) = pc.subplots(1, 2, figsize=(11, 4.5))
     first = sp.snapshots(runs[0])[0]
     _, cols, _ = sp.read_snapshot(first)
@@ -101,12 +100,16 @@ def draw(runs, ref, column, out):
     for r in runs:
         ts = sp.timeseries(r)
         a1.plot(ts["time_s"] * 1e3, ts[column], lw=0.8, label=os.path.basename(r))
+    finish(fig, a1, ref, column, out)
+
+
+def finish(fig, ax, ref, column, out):
+    """The boulder-free run's curve (dashed) on ax, labels and legend; fig written to out."""
     ts = sp.timeseries(ref)
-    a1.plot(ts["time_s"] * 1e3, ts[column], "k--", lw=1.5, label="no boulders")
-    pc.label(a1, "t_ms", column)
-    pc.legend(a1)
-    pc.save(fig, out)
-    plt.close(fig)
+    ax.plot(ts["time_s"] * 1e3, ts[column], "k--", lw=1.5, label="no boulders")
+    pc.label(ax, "t_ms", column)
+    pc.legend(ax)
+    pc.save(fig, out)  # (closes fig)
 
 
 def main():

@@ -73,7 +73,6 @@ def per_seed(variants, column):
 
 
 def draw(variants, ref, column, out):
-    plt = pc.pyplot()
     fig, ax = pc.subplots(1, 1, figsize=(7, 4.5))
     for label, runs in variants:
         t_end = min(ts["time_s"][-1] for ts in runs.values())
@@ -84,13 +83,8 @@ def draw(variants, ref, column, out):
         if len(runs) > 1:
             s = v.std(axis=0, ddof=1)
             ax.fill_between(t * 1e3, m - s, m + s, color=line.get_color(), alpha=0.2, lw=0)
-    ts = sp.timeseries(ref)
-    ax.plot(ts["time_s"] * 1e3, ts[column], "k--", lw=1.5, label="no boulders")
-    pc.label(ax, "t_ms", column)
     ax.set_title(f"{column}: seed mean ± 1 sd per boulder material (r-z, CPPR 3)", fontsize=9)
-    pc.legend(ax)
-    pc.save(fig, out)
-    plt.close(fig)
+    be.finish(fig, ax, ref, column, out)
 
 
 def main():
