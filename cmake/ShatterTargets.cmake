@@ -21,6 +21,19 @@ function(shatter_project_options target)
   endif()
 endfunction()
 
+# SHATTER_SOURCE_DIR (the checkout's path, where shipped data and scenes are found) is defined
+# only on the sources that read it: on every command line it would give each checkout its own
+# compiler-cache entries, so that a second worktree rebuilt the whole tree from cold.
+function(shatter_define_source_dir)
+  foreach(source IN LISTS ARGN)
+    file(STRINGS ${source} reads REGEX "SHATTER_SOURCE_DIR|support/cli_run.hpp" LIMIT_COUNT 1)
+    if(reads)
+      set_property(SOURCE ${source} APPEND
+                   PROPERTY COMPILE_DEFINITIONS SHATTER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+    endif()
+  endforeach()
+endfunction()
+
 # shatter_area(NAME DEPENDS deps...): a static library from src/NAME/*.cpp. An area with no
 # sources yet defines no target, so the tree builds while areas are being written.
 set(SHATTER_AREA_TARGETS "" CACHE INTERNAL "")
@@ -36,7 +49,7 @@ function(shatter_area name)
                                                     ${PROJECT_SOURCE_DIR}/kernels
                                              PRIVATE ${PROJECT_SOURCE_DIR}/src)
   # Where shipped data (data/materials.toml) is found when no path is given.
-  target_compile_definitions(shatter_${name} PRIVATE SHATTER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  shatter_define_source_dir(${sources})
   foreach(dep IN LISTS ARG_DEPENDS)
     if(dep STREQUAL "HDF5_INCLUDE")
       target_include_directories(shatter_${name} SYSTEM PUBLIC ${HDF5_C_INCLUDE_DIRS})
