@@ -100,6 +100,22 @@ void BM_FmaPeak(benchmark::State& state) {
   state.counters["lanes"] = static_cast<double>(xsimd::batch<double>::size);
 }
 
+// One thread, kChains independent chains: with one chain each FMA waits for the last (the FMA
+// latency), the ceiling of a gather that sums into one accumulator (G2P's 8 lanes, the velocity
+// gradient's three rows) unless the core overlaps the chains of successive points.
+template <int kChains>
+void BM_FmaChains(benchmark::State& state) {
+  constexpr std::int64_t kRounds = 1 << 16;
+  double out[8];
+  for (auto _ : state) {
+    fma_chains<kChains>(kRounds, out);
+    benchmark::DoNotOptimize(out);
+  }
+  const double flops = 2.0 * xsimd::batch<double>::size * kChains * kRounds;
+  state.counters["flops"] = benchmark::Counter(flops * static_cast<double>(state.iterations()),
+                                               benchmark::Counter::kIsRate);
+}
+
 // Sizes per array (three arrays each): 8 KiB (L1: 24 KiB of this machine's 32 KiB per core),
 // 256 KiB (L2: 768 KiB of 1 MiB per core), 2 MiB (L3: 6 MiB of 32 MiB shared), 8 MiB (24 MiB: the
 // size of the columns a stage streams at 1e5 points, near the L3's capacity), 256 MiB (DRAM); the
@@ -125,5 +141,7 @@ BENCHMARK(BM_FmaPeak)
     ->Arg(1)
     ->Arg(2)
     ->MeasureProcessCPUTime();
+BENCHMARK(BM_FmaChains<1>)->Name("machine/fma_chains/1")->MeasureProcessCPUTime();
+BENCHMARK(BM_FmaChains<3>)->Name("machine/fma_chains/3")->MeasureProcessCPUTime();
 
 BENCHMARK_MAIN();
