@@ -60,9 +60,9 @@ void BM_Triad(benchmark::State& state) {
 
 // Independent FMA chains, enough of them to cover the FMA latency times the number of FMA
 // pipes; each FMA is two flops per lane.
-template <int kChains>
+template <int kChains, class Arch = xsimd::default_arch>
 void fma_chains(std::int64_t rounds, double* out) {
-  using B = xsimd::batch<double>;
+  using B = xsimd::batch<double, Arch>;
   B acc[kChains];
   for (int k = 0; k < kChains; ++k) acc[k] = B(1.0 + 1e-3 * k);
   const B m(0.999999), d(1e-7);
@@ -115,6 +115,25 @@ void BM_FmaChains(benchmark::State& state) {
   state.counters["flops"] = benchmark::Counter(flops * static_cast<double>(state.iterations()),
                                                benchmark::Counter::kIsRate);
 }
+
+#if defined(__AVX512F__) && defined(__FMA__)
+// The FMA peak in 4-lane (256-bit) vectors on an AVX-512 build: whether this core reaches its peak
+// with the width of the transfers' Lanes<4> (kernels/mpm/lanes.hpp) as with 8 lanes (Zen 4 runs a
+// 512-bit FMA on two 256-bit halves; a core with full-width 512-bit units would not).
+void BM_FmaPeak256(benchmark::State& state) {
+  using A = xsimd::fma3<xsimd::avx2>;
+  constexpr std::int64_t kRounds = 1 << 16;
+  double out[8];
+  for (auto _ : state) {
+    fma_chains<12, A>(kRounds, out);
+    benchmark::DoNotOptimize(out);
+  }
+  const double flops = 2.0 * xsimd::batch<double, A>::size * 12 * kRounds;
+  state.counters["flops"] = benchmark::Counter(flops * static_cast<double>(state.iterations()),
+                                               benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_FmaPeak256)->Name("machine/fma_256bit")->MeasureProcessCPUTime();
+#endif
 
 // Sizes per array (three arrays each): 8 KiB (L1: 24 KiB of this machine's 32 KiB per core),
 // 256 KiB (L2: 768 KiB of 1 MiB per core), 2 MiB (L3: 6 MiB of 32 MiB shared), 8 MiB (24 MiB: the
