@@ -150,9 +150,10 @@ double settle_porous_column(ParticleStore& P, const MaterialModel& model,
 
 // The radial profile of a self-gravitating porous sphere (issue 29): p, bulk density rho and
 // enclosed mass m at r_k = k h, k = 0 .. kShells, h = R / kShells. The central pressure converges
-// at second order in h (the rest density's kinks, such as a crush curve's elastic limit, are not
-// smooth for RK4): 128 / 256 / 512 / 1 024 shells give p(0) of the 500 km regolith_simulant
-// sphere (scenes/gravity/porous-sphere.toml) 1.5e-6 / 3.7e-7 / 9e-8 / 2e-8 above its limit.
+// at second order in h (likely the rest density's kinks, such as a crush curve's elastic limit,
+// not smooth for RK4): 128 / 256 / 512 / 1 024 shells give p(0) of the 500 km regolith_simulant
+// sphere (scenes/gravity/porous-sphere.toml) 1.5e-6 / 3.7e-7 / 9e-8 / 2e-8 above its Richardson
+// limit.
 constexpr int kShells = 256;
 struct SphereProfile {
   double h = 0.0;
