@@ -86,18 +86,20 @@ BuiltScene build(const Scene& scene) {
   }
   const gravity::GravityConfig& g = scene.solver.self_gravity;
   // The lithostatic start: under self-gravity, or else under the uniform field along -z with a
-  // floor (parse_gravity.cpp refuses any other set-up).
-  if (g.equilibrium && g.self) {
-    gravity::set_equilibrium(P, s.materials, g.G);
-  } else if (g.equilibrium) {
-    // porous bodies start on their crush curve (issue 29): their materials' compaction at rest
+  // floor (parse_gravity.cpp refuses any other set-up). Porous bodies start on their crush curve
+  // (issue 29): their materials' compaction at rest.
+  if (g.equilibrium) {
     std::vector<RestCompactionFn> rest;
     for (const BodySpec& b : scene.bodies) {
       rest.push_back(b.material.porosity.empty() ? RestCompactionFn{}
                                                  : rest_compaction(b.material));
     }
-    gravity::set_uniform_equilibrium(P, s.materials, -scene.solver.gravity.z(),
-                                     scene.solver.domain.lo.z(), scene.solver.cell_size, rest);
+    if (g.self) {
+      gravity::set_equilibrium(P, s.materials, g.G, rest);
+    } else {
+      gravity::set_uniform_equilibrium(P, s.materials, -scene.solver.gravity.z(),
+                                       scene.solver.domain.lo.z(), scene.solver.cell_size, rest);
+    }
   }
   return s;
 }

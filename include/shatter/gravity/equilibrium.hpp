@@ -20,8 +20,18 @@ namespace shatter::gravity {
 // zero outside R. Each point's density is raised until its material's EOS (the model's own
 // initialise) gives p(r) (secant steps from rho c^2), and its stress is set to -p I. Mass and
 // positions are kept: the compression of a rock body is p / K ~ 1e-5 at 25 km.
+// A porous body (its entry of `rest`, its material's rest_compaction, given, with alpha0 > 1;
+// issue 29) starts instead on its crush curve, as set_uniform_equilibrium's column below: the
+// sphere of the same radius and centre in hydrostatic balance with a bulk density that grows inward
+// as the pores close, dp/dr = -G m(r) rho(p) / r^2, dm/dr = 4 pi r^2 rho(p), p(R) = 0, rho(p) the
+// density at which the compaction model at rest carries p (integrated outward by RK4 and shot on
+// the central pressure); each point at its radius's pressure, at that density and at the
+// distension the compaction model gives there; its volume (volume0) and position kept and its
+// mass set to rho volume0, so the body weighs more than its rest density says
+// (docs/validation-qstar.md, "The equilibrium start").
 // Returns the largest relative pressure residual |p_eos - p| / p(0) left.
-double set_equilibrium(ParticleStore& store, const std::vector<MaterialPtr>& materials, double G);
+double set_equilibrium(ParticleStore& store, const std::vector<MaterialPtr>& materials, double G,
+                       const std::vector<RestCompactionFn>& rest = {});
 
 // The lithostatic start under a uniform field g = (0, 0, -g_z), g_z > 0 (issue 29, gravity-regime
 // craters): each body that rests on the domain's lower z face (its lowest point within one cell
