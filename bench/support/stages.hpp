@@ -25,9 +25,8 @@ inline kernels::P2GParticles p2g_inputs(ParticleStore& P, bool with_force) {
   return mpm::p2g_inputs(P, 1.0 / kCell, with_force);
 }
 
-// P2G (kForce) or the MUSL remap's momentum-only scatter (!kForce), as Simulation::Impl::p2g;
-// kStreams: the lanes scatter's interleaved streams (kernels::p2g_block).
-template <class Shape, bool kForce, int kStreams = kernels::kP2GStreams>
+// P2G (kForce) or the MUSL remap's momentum-only scatter (!kForce), as Simulation::Impl::p2g.
+template <class Shape, bool kForce>
 void scatter(const kernels::P2GParticles& in, SparseGrid& grid) {
   if constexpr (kForce) {
     grid.clear_nodes();
@@ -44,9 +43,9 @@ void scatter(const kernels::P2GParticles& in, SparseGrid& grid) {
                         kernels::P2GScratch scratch;
                         for (std::size_t k = r.begin(); k < r.end(); ++k) {
                           const std::uint32_t b = blocks[k];
-                          kernels::p2g_block<Shape, kForce, false, false, kStreams>(
-                              in, grid.owned(b), grid.coord(b), grid.neighbours(b), grid.nodes(),
-                              scratch);
+                          kernels::p2g_block<Shape, kForce>(in, grid.owned(b), grid.coord(b),
+                                                            grid.neighbours(b), grid.nodes(),
+                                                            scratch);
                         }
                       });
   }

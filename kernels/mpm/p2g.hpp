@@ -207,33 +207,25 @@ void p2g_flush(P2GScratch& s, const std::uint32_t* neighbours, SparseGrid::Nodes
   }
 }
 
-// Particles in flight in the lanes scatter. Consecutive particles of one cell add into the same
-// 27 scratch nodes, each node's load waiting for the previous particle's store; kP2GStreams
-// interleaved streams over the block's list (for_each_interleaved) put particles of other cells
-// in between. The order of every node's sum is a function of the block's list alone, so results
-// do not depend on the thread or rank count. Measured slower (bench_p2g p2g/ugimp_recomputed,
-// docs/performance.md, "Session 21: MPM"): 1, the list order, bitwise that of main.
-inline constexpr int kP2GStreams = 1;
-
 // kForce: also scatter the internal force -V_p sigma_p . grad N_I (Eq. 29); otherwise only mass
 // and momentum (the MUSL remap of step 6 needs momentum alone).
 // kAffine: APIC momentum m_p (v_p + C_p (x_I - x_p)) instead of m_p v_p (Jiang et al. 2015,
 // Eq. 9 with C_p = B_p D_p^-1 taken as the grid velocity gradient). The shapes reproduce linear
 // fields, sum_I N_I (x_I - x_p) = 0, so the affine term moves no net momentum.
-// Without the affine term the node sums run in vector lanes (p2g_lanes), the particles in the
-// order of for_each_interleaved<kStreams>; the APIC scatter runs in list order.
+// Without the affine term the node sums run in vector lanes (p2g_lanes).
 // kAxisymmetric: the hoop force of the r-z mode (p2g_point); FLIP only (the scene refuses APIC).
-template <class Shape, bool kForce, bool kAffine = false, bool kAxisymmetric = false,
-          int kStreams = kP2GStreams>
+template <class Shape, bool kForce, bool kAffine = false, bool kAxisymmetric = false>
 void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
                const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
                SparseGrid::Nodes& nodes, P2GScratch& s) {
   constexpr bool kLanes = !kAffine;
   static_assert(!(kAffine && kAxisymmetric), "APIC carries no hoop term");
   p2g_clear<kForce, kLanes>(s);
+  Stencil<Shape> st;
+  const bool stored = in.stencil.mode == StencilCache::kLoad;
   if constexpr (kLanes && kRecomputedRows<Shape>) {
     if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP FLIP scatters
-      for_each_recomputed<Shape, kForce, kStreams>(
+      for_each_recomputed<Shape, kForce>(
           in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
             p2g_lanes<kForce, kAxisymmetric>(stencil, p2g_point<kForce, kAxisymmetric>(in, p), s);
           });
@@ -241,12 +233,11 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
       return;
     }
   }
-  Stencil<Shape> st;
-  const auto one = [&](std::uint32_t p) {
+  for (const std::uint32_t p : particles) {
     const P2GPoint pt = p2g_point<kForce, kAxisymmetric>(in, p);
-    if (kLanes && in.stencil.mode == StencilCache::kLoad) {  // the stored row read in place
+    if (kLanes && stored) {  // the engine's FLIP scatters: the stored row read in place
       p2g_lanes<kForce, kAxisymmetric>(StoredStencil<Shape>(in.stencil, p), pt, s);
-      return;
+      continue;
     }
     const double x[3] = {in.x[p], in.y[p], in.z[p]};
     st.prepare(in.stencil, p, x, in.inv_h, 0.5 * in.size0[p] * in.inv_h, owner);
@@ -256,9 +247,7 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
       const double xi[3] = {x[0] * in.inv_h, x[1] * in.inv_h, x[2] * in.inv_h};
       p2g_affine<Shape, kForce>(in, p, st, xi, pt, s);
     }
-  };
-  for_each_interleaved<kLanes ? kStreams : 1>(particles.size(),
-                                              [&](std::size_t i) { one(particles[i]); });
+  }
   p2g_flush<kForce, kLanes>(s, neighbours, nodes);
 }
 

@@ -340,51 +340,19 @@ struct BatchStencil {
   }
 };
 
-// The visiting order of kStreams interleaved streams over n particles: the list cut into kStreams
-// consecutive parts of m = ceil(n / kStreams) (the last ones may be shorter), then the k-th
-// particle of each part in turn, k = 0, 1, ...: body(i) for list positions j m + k < n. A
-// function of n alone, so of the block's list alone. kStreams = 1: in order.
-template <int kStreams, class Body>
-void for_each_interleaved(std::size_t n, Body&& body) {
-  static_assert(kStreams >= 1);
-  const std::size_t m = (n + kStreams - 1) / kStreams;
-  for (std::size_t k = 0; k < m; ++k) {
-    for (int j = 0; j < kStreams; ++j) {
-      const std::size_t i = static_cast<std::size_t>(j) * m + k;
-      if (i < n) body(i);
-    }
-  }
-}
-
-// body(stencil, p) for every particle p of `particles` in the order of
-// for_each_interleaved<kStreams> (kStreams = 1: in order), with its row recomputed (kRecompute,
-// kRecomputedRows<Shape>) kStencilBatch particles of each part at a time; kGrad false: the
+// body(stencil, p) for every particle p of `particles` in order, with its row recomputed
+// (kRecompute, kRecomputedRows<Shape>) kStencilBatch particles at a time; kGrad false: the
 // weights only (the derivatives read as zero).
-template <class Shape, bool kGrad = true, int kStreams = 1, class Body>
+template <class Shape, bool kGrad = true, class Body>
 void for_each_recomputed(const StencilCache& cache, std::span<const std::uint32_t> particles,
                          Body&& body) {
-  static_assert(kRecomputedRows<Shape> && kStreams >= 1);
-  alignas(64) double rows[kStreams][Stencil<Shape>::kRow * kStencilBatch] = {};
-  std::uint8_t off[kStreams][kStencilBatch];
-  const std::size_t n = particles.size();
-  const std::size_t m = (n + kStreams - 1) / kStreams;
-  for (std::size_t k0 = 0; k0 < m; k0 += kStencilBatch) {
-    int count[kStreams];
-    for (int j = 0; j < kStreams; ++j) {
-      const std::size_t begin = std::min(n, static_cast<std::size_t>(j) * m + k0);
-      const std::size_t end = std::min({n, (j + 1) * m, begin + kStencilBatch});
-      count[j] = static_cast<int>(end - begin);
-      if (count[j] > 0) {
-        recomputed_rows<kGrad>(cache, particles.data() + begin, count[j], rows[j], off[j]);
-      }
-    }
-    for (int k = 0; k < kStencilBatch; ++k) {
-      for (int j = 0; j < kStreams; ++j) {
-        if (k >= count[j]) continue;
-        const std::uint32_t p = particles[static_cast<std::size_t>(j) * m + k0 + k];
-        body(BatchStencil<Shape>(rows[j], k, off[j][k]), p);
-      }
-    }
+  static_assert(kRecomputedRows<Shape>);
+  alignas(64) double rows[Stencil<Shape>::kRow * kStencilBatch] = {};
+  std::uint8_t off[kStencilBatch];
+  for (std::size_t k0 = 0; k0 < particles.size(); k0 += kStencilBatch) {
+    const int count = static_cast<int>(std::min<std::size_t>(kStencilBatch, particles.size() - k0));
+    recomputed_rows<kGrad>(cache, particles.data() + k0, count, rows, off);
+    for (int k = 0; k < count; ++k) body(BatchStencil<Shape>(rows, k, off[k]), particles[k0 + k]);
   }
 }
 
