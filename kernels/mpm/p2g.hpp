@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 
+#include "mpm/factors.hpp"
 #include "mpm/lanes.hpp"
 #include "mpm/stencil.hpp"
 
@@ -82,33 +83,6 @@ void p2g_clear(P2GScratch& s) {
   }
 }
 
-// The node factors of one stencil, N = (w_x w_y) w_z, g_x = (w'_x w_y) w_z, g_y = (w_x w'_y) w_z
-// and g_z = (w_x w_y) w'_z (the products of the node loop, in its order: the same bits), per
-// (a, b) four lanes over c, computed four nodes per vector instead of one product per node. The
-// node loop then reads each factor as a broadcast from memory (a load) instead of a scalar
-// product and a register broadcast (two ALU operations).
-template <int W>
-struct P2GFactors {
-  static_assert(W == 2 || W == 3);
-  alignas(32) double v[W * W][4][4];  // [a W + b][N, gx, gy, gz][c]
-  template <bool kForce, class St>
-  void fill(const St& st) {
-    const Lanes<4> wz = Lanes<4>::set(st.w[2][0], st.w[2][1], W > 2 ? st.w[2][W - 1] : 0.0, 0.0);
-    const Lanes<4> dz = Lanes<4>::set(st.dw[2][0], st.dw[2][1], W > 2 ? st.dw[2][W - 1] : 0.0, 0.0);
-    for (int a = 0; a < W; ++a) {
-      for (int b = 0; b < W; ++b) {
-        const double wab = st.w[0][a] * st.w[1][b];
-        double(&f)[4][4] = v[a * W + b];
-        (Lanes<4>::splat(wab) * wz).store(f[0]);
-        if constexpr (!kForce) continue;
-        (Lanes<4>::splat(st.dw[0][a] * st.w[1][b]) * wz).store(f[1]);
-        (Lanes<4>::splat(st.w[0][a] * st.dw[1][b]) * wz).store(f[2]);
-        (Lanes<4>::splat(wab) * dz).store(f[3]);
-      }
-    }
-  }
-};
-
 // One particle into the lanes of the scratch nodes (the FLIP scatter). Each lane does the
 // operations of the scalar loop (lanes.hpp): fma(c, N, sum) for mass and momentum, and for the
 // force fma(mb, N, fma(s_z, g_z, fma(s_x, g_x, s_y g_y))) added to the sum, the FMAs GCC's
@@ -127,7 +101,7 @@ void p2g_lanes(const St& st, const P2GPoint& pt, P2GScratch& s) {
                                     : Lanes<4>::set(pt.sxy, pt.syy, pt.syz, 0.0);
   const Lanes<4> sz = Lanes<4>::set(pt.sxz, pt.syz, pt.szz, 0.0);
   const Lanes<4> mb = Lanes<4>::set(pt.mbx, pt.mby, pt.mbz, 0.0);
-  P2GFactors<W> t;
+  NodeFactors<W> t;
   if constexpr (kTable) t.template fill<kForce>(st);
   for (int a = 0; a < W; ++a) {
     for (int b = 0; b < W; ++b) {
