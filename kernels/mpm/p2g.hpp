@@ -91,6 +91,9 @@ void p2g_clear(P2GScratch& s) {
 // kAxisymmetric: the y gradient is zero (the degenerate y stencil), so the s_y g_y term carries
 // the hoop force instead: s_y = (hoop, 0, 0) and g_y = N (sigma_xy = sigma_yz = 0, no torsion).
 // St: a Stencil, or a StoredStencil read in place (stencil.hpp).
+// kTable: with kForce, the node factors N, g from a NodeFactors table (factors.hpp; the same
+// products, so the same bits; 1.17-1.22x for P2G in bench_p2g). kTable false: the products in
+// the node loop, as before session 21, kept for bench_p2g's comparison.
 template <bool kForce, bool kAxisymmetric = false, bool kTable = true, class St>
 void p2g_lanes(const St& st, const P2GPoint& pt, P2GScratch& s) {
   constexpr int W = St::W;
@@ -101,8 +104,11 @@ void p2g_lanes(const St& st, const P2GPoint& pt, P2GScratch& s) {
                                     : Lanes<4>::set(pt.sxy, pt.syy, pt.syz, 0.0);
   const Lanes<4> sz = Lanes<4>::set(pt.sxz, pt.syz, pt.szz, 0.0);
   const Lanes<4> mb = Lanes<4>::set(pt.mbx, pt.mby, pt.mbz, 0.0);
+  // The table only for the force scatter: the momentum-only scatter (the remap's), one product
+  // per node, ran 0.85x with it (bench_remap).
+  constexpr bool kFactors = kTable && kForce;
   NodeFactors<W> t;
-  if constexpr (kTable) t.template fill<kForce>(st);
+  if constexpr (kFactors) t.template fill<true>(st);
   for (int a = 0; a < W; ++a) {
     for (int b = 0; b < W; ++b) {
       const double wab = st.w[0][a] * st.w[1][b];
@@ -112,14 +118,14 @@ void p2g_lanes(const St& st, const P2GPoint& pt, P2GScratch& s) {
       const double(&f)[4][4] = t.v[a * W + b];
       for (int c = 0; c < W; ++c) {
         double* node = s.q(row + c);
-        const double N = kTable ? f[0][c] : wab * st.w[2][c];
+        const double N = kFactors ? f[0][c] : wab * st.w[2][c];
         const Lanes<4> n = Lanes<4>::splat(N);
         fma(q, n, Lanes<4>::load(node)).store(node);
         if constexpr (kForce) {
-          const Lanes<4> gx = Lanes<4>::splat(kTable ? f[1][c] : gx_ab * st.w[2][c]);
+          const Lanes<4> gx = Lanes<4>::splat(kFactors ? f[1][c] : gx_ab * st.w[2][c]);
           const Lanes<4> gy =
-              kAxisymmetric ? n : Lanes<4>::splat(kTable ? f[2][c] : gy_ab * st.w[2][c]);
-          const Lanes<4> gz = Lanes<4>::splat(kTable ? f[3][c] : wab * st.dw[2][c]);
+              kAxisymmetric ? n : Lanes<4>::splat(kFactors ? f[2][c] : gy_ab * st.w[2][c]);
+          const Lanes<4> gz = Lanes<4>::splat(kFactors ? f[3][c] : wab * st.dw[2][c]);
           const Lanes<4> f4 = fma(mb, n, fma(sz, gz, fma(sx, gx, sy * gy)));  // Eqs. 29, 30
           (Lanes<4>::load(node + 4) + f4).store(node + 4);
         }
