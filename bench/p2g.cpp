@@ -30,7 +30,7 @@ void BM_P2G(benchmark::State& state) {
 
 // The engine's uGIMP P2G (rows recomputed at each read, StencilCache::kRecompute; BM_P2G reads
 // stored rows), or the stored rows (range 2 = 0), each with the node factors of a stencil taken
-// from a table filled four nodes per vector (kernels::P2GFactors; range 3 = 1) or as products in
+// from a table filled four nodes per vector (kernels::NodeFactors; range 3 = 1) or as products in
 // the node loop (0, main before session 21: the same bits). Run with
 // --benchmark_enable_random_interleaving: the variants alternate inside one process, so their
 // ratio is taken under one load.
@@ -67,7 +67,7 @@ void BM_P2GFactors(benchmark::State& state) {
 BENCHMARK(BM_P2GFactors)
     ->Name("p2g/ugimp_factors")
     ->ArgNames({"particles", "threads", "recomputed", "table"})
-    ->ArgsProduct({{100'000, 1'000'000}, {1}, {0, 1}, {0, 1}})
+    ->ArgsProduct({bench::particle_counts({100'000, 1'000'000}), {1}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MeasureProcessCPUTime();
