@@ -25,8 +25,9 @@ inline kernels::P2GParticles p2g_inputs(ParticleStore& P, bool with_force) {
   return mpm::p2g_inputs(P, 1.0 / kCell, with_force);
 }
 
-// P2G (kForce) or the MUSL remap's momentum-only scatter (!kForce), as Simulation::Impl::p2g.
-template <class Shape, bool kForce>
+// P2G (kForce) or the MUSL remap's momentum-only scatter (!kForce), as Simulation::Impl::p2g;
+// kTable false: the node factors as products in the node loop (kernels::p2g_lanes; same bits).
+template <class Shape, bool kForce, bool kTable = true>
 void scatter(const kernels::P2GParticles& in, SparseGrid& grid) {
   if constexpr (kForce) {
     grid.clear_nodes();
@@ -43,9 +44,9 @@ void scatter(const kernels::P2GParticles& in, SparseGrid& grid) {
                         kernels::P2GScratch scratch;
                         for (std::size_t k = r.begin(); k < r.end(); ++k) {
                           const std::uint32_t b = blocks[k];
-                          kernels::p2g_block<Shape, kForce>(in, grid.owned(b), grid.coord(b),
-                                                            grid.neighbours(b), grid.nodes(),
-                                                            scratch);
+                          kernels::p2g_block<Shape, kForce, false, false, kTable>(
+                              in, grid.owned(b), grid.coord(b), grid.neighbours(b), grid.nodes(),
+                              scratch);
                         }
                       });
   }

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 
+#include "mpm/factors.hpp"
 #include "mpm/lanes.hpp"
 #include "mpm/stencil.hpp"
 
@@ -90,7 +91,10 @@ void p2g_clear(P2GScratch& s) {
 // kAxisymmetric: the y gradient is zero (the degenerate y stencil), so the s_y g_y term carries
 // the hoop force instead: s_y = (hoop, 0, 0) and g_y = N (sigma_xy = sigma_yz = 0, no torsion).
 // St: a Stencil, or a StoredStencil read in place (stencil.hpp).
-template <bool kForce, bool kAxisymmetric = false, class St>
+// kTable: with kForce, the node factors N, g from a NodeFactors table (factors.hpp; the same
+// products, so the same bits; 1.17-1.22x for P2G in bench_p2g). kTable false: the products in
+// the node loop, as before session 21, kept for bench_p2g's comparison.
+template <bool kForce, bool kAxisymmetric = false, bool kTable = true, class St>
 void p2g_lanes(const St& st, const P2GPoint& pt, P2GScratch& s) {
   constexpr int W = St::W;
   constexpr int E = P2GScratch::kEdge;
@@ -100,23 +104,30 @@ void p2g_lanes(const St& st, const P2GPoint& pt, P2GScratch& s) {
                                     : Lanes<4>::set(pt.sxy, pt.syy, pt.syz, 0.0);
   const Lanes<4> sz = Lanes<4>::set(pt.sxz, pt.syz, pt.szz, 0.0);
   const Lanes<4> mb = Lanes<4>::set(pt.mbx, pt.mby, pt.mbz, 0.0);
+  // The table only for the force scatter: the momentum-only scatter (the remap's), one product
+  // per node, ran 0.85x with it (bench_remap).
+  constexpr bool kFactors = kTable && kForce;
+  NodeFactors<W> t;
+  if constexpr (kFactors) t.template fill<true>(st);
   for (int a = 0; a < W; ++a) {
     for (int b = 0; b < W; ++b) {
       const double wab = st.w[0][a] * st.w[1][b];
       const double gx_ab = st.dw[0][a] * st.w[1][b];
       const double gy_ab = st.w[0][a] * st.dw[1][b];
       const int row = ((st.off[0] + a) * E + (st.off[1] + b)) * E + st.off[2];
+      const double(&f)[4][4] = t.v[a * W + b];
       for (int c = 0; c < W; ++c) {
         double* node = s.q(row + c);
-        const double N = wab * st.w[2][c];
+        const double N = kFactors ? f[0][c] : wab * st.w[2][c];
         const Lanes<4> n = Lanes<4>::splat(N);
         fma(q, n, Lanes<4>::load(node)).store(node);
         if constexpr (kForce) {
-          const Lanes<4> gx = Lanes<4>::splat(gx_ab * st.w[2][c]);
-          const Lanes<4> gy = kAxisymmetric ? n : Lanes<4>::splat(gy_ab * st.w[2][c]);
-          const Lanes<4> gz = Lanes<4>::splat(wab * st.dw[2][c]);
-          const Lanes<4> f = fma(mb, n, fma(sz, gz, fma(sx, gx, sy * gy)));  // Eqs. 29, 30
-          (Lanes<4>::load(node + 4) + f).store(node + 4);
+          const Lanes<4> gx = Lanes<4>::splat(kFactors ? f[1][c] : gx_ab * st.w[2][c]);
+          const Lanes<4> gy =
+              kAxisymmetric ? n : Lanes<4>::splat(kFactors ? f[2][c] : gy_ab * st.w[2][c]);
+          const Lanes<4> gz = Lanes<4>::splat(kFactors ? f[3][c] : wab * st.dw[2][c]);
+          const Lanes<4> f4 = fma(mb, n, fma(sz, gz, fma(sx, gx, sy * gy)));  // Eqs. 29, 30
+          (Lanes<4>::load(node + 4) + f4).store(node + 4);
         }
       }
     }
@@ -214,7 +225,8 @@ void p2g_flush(P2GScratch& s, const std::uint32_t* neighbours, SparseGrid::Nodes
 // fields, sum_I N_I (x_I - x_p) = 0, so the affine term moves no net momentum.
 // Without the affine term the node sums run in vector lanes (p2g_lanes).
 // kAxisymmetric: the hoop force of the r-z mode (p2g_point); FLIP only (the scene refuses APIC).
-template <class Shape, bool kForce, bool kAffine = false, bool kAxisymmetric = false>
+template <class Shape, bool kForce, bool kAffine = false, bool kAxisymmetric = false,
+          bool kTable = true>
 void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
                const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
                SparseGrid::Nodes& nodes, P2GScratch& s) {
@@ -225,10 +237,11 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
   const bool stored = in.stencil.mode == StencilCache::kLoad;
   if constexpr (kLanes && kRecomputedRows<Shape>) {
     if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP FLIP scatters
-      for_each_recomputed<Shape, kForce>(
-          in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
-            p2g_lanes<kForce, kAxisymmetric>(stencil, p2g_point<kForce, kAxisymmetric>(in, p), s);
-          });
+      for_each_recomputed<Shape, kForce>(in.stencil, particles,
+                                         [&](const auto& stencil, std::uint32_t p) {
+                                           p2g_lanes<kForce, kAxisymmetric, kTable>(
+                                               stencil, p2g_point<kForce, kAxisymmetric>(in, p), s);
+                                         });
       p2g_flush<kForce, kLanes>(s, neighbours, nodes);
       return;
     }
@@ -236,13 +249,13 @@ void p2g_block(const P2GParticles& in, std::span<const std::uint32_t> particles,
   for (const std::uint32_t p : particles) {
     const P2GPoint pt = p2g_point<kForce, kAxisymmetric>(in, p);
     if (kLanes && stored) {  // the engine's FLIP scatters: the stored row read in place
-      p2g_lanes<kForce, kAxisymmetric>(StoredStencil<Shape>(in.stencil, p), pt, s);
+      p2g_lanes<kForce, kAxisymmetric, kTable>(StoredStencil<Shape>(in.stencil, p), pt, s);
       continue;
     }
     const double x[3] = {in.x[p], in.y[p], in.z[p]};
     st.prepare(in.stencil, p, x, in.inv_h, 0.5 * in.size0[p] * in.inv_h, owner);
     if constexpr (kLanes) {
-      p2g_lanes<kForce, kAxisymmetric>(st, pt, s);
+      p2g_lanes<kForce, kAxisymmetric, kTable>(st, pt, s);
     } else {
       const double xi[3] = {x[0] * in.inv_h, x[1] * in.inv_h, x[2] * in.inv_h};
       p2g_affine<Shape, kForce>(in, p, st, xi, pt, s);
