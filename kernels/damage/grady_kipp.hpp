@@ -41,6 +41,38 @@ struct GradyKipp {
 
   template <class T>
   T evolve(const DamageInput<T>& in, DamageState<T>& st) const {
+    if (!may_activate(in, st)) {
+      // No lane reaches its weakest flaw: n_act = 0 zeroes Eq. 19's increment and BA95 Eq. 22's
+      // cap, so the full path below would keep D and store n_act = 0; done here without the
+      // Jacobi sweeps and the exp, log and cbrt (~10 % of a laboratory impact's step).
+      st.n_active = T(0.0);
+      return st.damage;
+    }
+    return evolve_full(in, st);
+  }
+
+  // Whether any lane may reach its weakest flaw's threshold. An upper bound of Eq. 18's strain
+  // from Gershgorin's bound on the largest principal value of s (max over rows of s_ii + the
+  // row's |s_ij|, j != i), widened by 1e-6 of the tensor's absolute sum: far above the Jacobi
+  // sweeps' round-off (7 eps ||s||, principal.hpp) and the few roundings after it, so that a
+  // batch declared inactive here is one the full path finds inactive in every lane.
+  template <class T>
+  bool may_activate(const DamageInput<T>& in, const DamageState<T>& st) const {
+    const T a3 = simd::vabs(in.s[3]), a4 = simd::vabs(in.s[4]), a5 = simd::vabs(in.s[5]);
+    const T rows = xsimd::max(in.s[0] + a3 + a5, xsimd::max(in.s[1] + a3 + a4, in.s[2] + a4 + a5));
+    const T size =
+        simd::vabs(in.s[0]) + simd::vabs(in.s[1]) + simd::vabs(in.s[2]) + T(2.0) * (a3 + a4 + a5);
+    const T intact = xsimd::max(T(1.0) - st.damage, T(params.min_intact_fraction));
+    const T pressure = (in.s[0] + in.s[1] + in.s[2]) * T(-1.0 / 3.0);
+    const T p_star = simd::vselect(pressure < T(0.0), intact * pressure, pressure);
+    const T sigma_hi = intact * (rows + T(1.0e-6) * size + pressure) - p_star;
+    const T eps_hi = xsimd::max(sigma_hi, T(0.0)) / (intact * in.young);
+    return simd::any((eps_hi >= st.eps_min) && (st.eps_min > T(0.0)));
+  }
+
+  // Eqs. 17-19 and BA95 Eq. 22 in every lane.
+  template <class T>
+  T evolve_full(const DamageInput<T>& in, DamageState<T>& st) const {
     const T d_old = st.damage;
     // Eq. 18 reads sigma_max of the damaged stress sigma of Eq. 14 and divides by (1 - D) to get
     // the strain of the intact matrix that bears it (MPM paper Sec. 5.1). in.s is the intact

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <random>
 
@@ -226,6 +228,55 @@ TEST(GradyKipp, SimdLanesEqualScalarPath) {
       ASSERT_NEAR(nv[l], ss.n_active, 1e-11 * std::max(ss.n_active, 1e-300));
     }
   }
+}
+
+TEST(GradyKipp, BatchesBelowEveryThresholdKeepTheFullPathsBits) {
+  // evolve() skips a batch whose Gershgorin bound puts every lane below its weakest flaw: it must
+  // give the bits of the full path (evolve_full) in every lane, damaged or not, whatever the
+  // state. Stresses spread over four decades around the thresholds (eps_min E ~ 0.5-5 MPa) so
+  // that batches are skipped, computed in full, and decided near the bound's margin. Bound:
+  // bitwise equality; the counts show both branches were taken.
+  using B = test::Batch;
+  constexpr std::size_t w = B::size;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const GradyKipp gk{};
+  int skipped = 0, full = 0;
+  for (int rep = 0; rep < 4000; ++rep) {
+    const double scale = std::pow(10.0, 4.0 + 4.0 * u(rng));
+    alignas(64) double s[6][w], d[w], emin[w], nf[w], mp[w];
+    for (std::size_t l = 0; l < w; ++l) {
+      for (int k = 0; k < 6; ++k) s[k][l] = (u(rng) - (k < 3 ? 0.6 : 0.5)) * scale;
+      d[l] = u(rng) < 0.5 ? 0.0 : u(rng);
+      emin[l] = 1e-5 + 1e-4 * u(rng);
+      nf[l] = std::floor(1.0 + 100.0 * u(rng));
+      mp[l] = 5.0 + 40.0 * u(rng);
+    }
+    DamageInput<B> in;
+    for (int k = 0; k < 6; ++k) in.s[k] = B::load_aligned(s[k]);
+    in.young = B(kYoung);
+    in.soundspeed = B(kSound);
+    in.volume = B(kVolume);
+    in.dplastic = B(0.0);
+    in.dt = 1e-8;
+    DamageState<B> a{B::load_aligned(d),  B::load_aligned(emin), B(0.0),
+                     B::load_aligned(nf), B::load_aligned(mp),   B(-1.0)};
+    DamageState<B> b = a;
+    (gk.may_activate(in, a) ? full : skipped) += 1;
+    gk.evolve(in, a);
+    gk.evolve_full(in, b);
+    alignas(64) double da[w], db[w], na[w], nb[w];
+    a.damage.store_aligned(da), b.damage.store_aligned(db);
+    a.n_active.store_aligned(na), b.n_active.store_aligned(nb);
+    for (std::size_t l = 0; l < w; ++l) {
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(da[l]), std::bit_cast<std::uint64_t>(db[l]))
+          << "batch " << rep << " lane " << l;
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(na[l]), std::bit_cast<std::uint64_t>(nb[l]))
+          << "batch " << rep << " lane " << l;
+    }
+  }
+  EXPECT_GT(skipped, 400);
+  EXPECT_GT(full, 400);
 }
 
 }  // namespace
