@@ -28,9 +28,12 @@ std::size_t SphSolver::bytes() const {
     b += held(*v);
   }
   for (const auto& v : I.a_stress) b += held(v);
-  b += held(I.pair_w) + held(I.pair_at) + held(I.active_count) + held(I.order) + held(I.renumber) +
-       held(I.ghosts) + held(I.kept_ghosts) + held(I.leaving);
+  b += held(I.pair_w) + held(I.pair_mask) + held(I.chunk_w) + held(I.chunk_w_count) +
+       held(I.chunk_mask) + held(I.spill) + held(I.active_count) + held(I.order) +
+       held(I.renumber) + held(I.ghosts) + held(I.kept_ghosts) + held(I.leaving);
   for (const auto& v : I.rest) b += held(v);
+  for (const auto& v : I.packing) b += held(v);
+  for (const auto& v : I.spill) b += held(v);
   return b;
 }
 std::uint64_t SphSolver::neighbour_builds() const {

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -36,6 +37,12 @@ namespace ks = kernels::sph;
 // number of threads, so their sums have the same bits.
 inline constexpr std::size_t kGrain = 2048;
 inline constexpr std::size_t kPairGrain = 256;
+
+// Groups of the SIMD width in a list of `count` pairs: the bytes of its viscous weights' mask.
+inline std::size_t groups(std::size_t count) {
+  constexpr std::size_t W = kernels::sph::Lanes<simd::Batch>::width;
+  return (count + W - 1) / W;
+}
 
 template <class F>
 double deterministic_sum(std::size_t n, F&& term) {
@@ -114,12 +121,24 @@ struct SphSolver::Impl {
   // The pairs within support at the last forces pass: the first active_count[i] entries of i's
   // Verlet list, in ascending order (compact_lists re-arranges each list in place); whether the
   // lists are as a build or permute left them (ascending throughout); scratch per thread for the
-  // re-arrangement; and the pairs' viscous weights (viscous_heating_term).
+  // re-arrangement.
   std::vector<std::uint32_t> active_count;
   bool lists_sorted = false;
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rest;
-  std::vector<std::size_t> pair_at;  // n + 1: particle i's weights are pair_w[pair_at[i]...]
+  // The pairs' viscous weights (viscous_heating_term), per chunk of kPairGrain particles (the
+  // passes run over whole chunks): only the non-zero ones, a chunk's in particle and list order
+  // from pair_w[chunk_w[c]] on (chunk_w_count[c] of them), and a byte per group of the SIMD
+  // width of list entries saying which are there, a chunk's from pair_mask[chunk_mask[c]] on.
+  // The forces pass packs a chunk's weights in a per-thread buffer (`packing`) and takes its
+  // room in pair_w when it ends (pair_w_used), so chunks lie in any order (their values do not
+  // depend on it); a chunk that finds no room keeps its weights in `spill` until the pass has
+  // ended, when pair_w grows (place_weights).
+  std::vector<std::size_t> chunk_w, chunk_w_count, chunk_mask;
   std::vector<double> pair_w;
+  std::vector<std::uint8_t> pair_mask;
+  std::atomic<std::size_t> pair_w_used{0};
+  tbb::enumerable_thread_specific<std::vector<double>> packing;
+  std::vector<std::vector<double>> spill;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
   // The Morris & Monaghan switch: alpha per particle (state: follows the particles through the
   // re-order and the outflow; real then mirror entries). The normalized continuity: a copy of
@@ -183,6 +202,7 @@ struct SphSolver::Impl {
   void material(double dt);
   void drift(double dt);
   void compact_lists(const ks::PairInputs& in);
+  void place_weights();
   void forces();
   void add_self_gravity();  // a += the particles' self-gravity (sph/gravity.cpp)
 
