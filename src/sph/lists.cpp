@@ -15,7 +15,7 @@ namespace shatter::sph {
 // Real particles; make_ghosts() extends the per-point arrays for the images (within the
 // capacity once the image count stops growing: no allocation).
 void SphSolver::Impl::resize(std::size_t n) {
-  for (auto* v : {&h, &h_mid, &ax, &ay, &az, &heat, &mu}) v->resize(n);
+  for (auto* v : {&h, &h_mid, &ax, &ay, &az, &heat}) v->resize(n);
   for (auto& v : a_stress) v.resize(n);
 }
 

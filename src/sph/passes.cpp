@@ -260,8 +260,8 @@ void SphSolver::Impl::forces() {
           std::size_t pairs = 0;
           for (std::size_t i = begin; i < end; ++i) pairs += active_count[i];
           if (packed.size() < pairs + 1) packed.resize(pairs + 1);
-          const ks::ForceOutputs out{ax.data(), ay.data(),     az.data(),       heat.data(),
-                                     mu.data(), packed.data(), pair_mask.data()};
+          const ks::ForceOutputs out{ax.data(),    ay.data(),     az.data(),       heat.data(),
+                                     h_mid.data(), packed.data(), pair_mask.data()};
           std::size_t w = 0, g = chunk_mask[c];
           for (std::size_t i = begin; i < end; ++i) {
             w += ks::forces_particle<simd::Batch>(in, f, search.begin_of(i), active_count[i], i,

@@ -105,10 +105,13 @@ struct SphSolver::Impl {
   tbb::task_arena arena;
   NeighbourSearch search;
   // Real particles 0 .. n-1, then mirror particles n .. n+g-1 (h, h_mid, ax, ay, az, a_stress
-  // and the e* copies have n + g entries; heat and mu n). `heat` is written by the forces pass
-  // and read by energy() at the end of the same step; between those it is free, and holds the
-  // kick's viscous heat in the rates pass and serves as the re-order's scratch column.
-  AlignedVector<double> h, h_mid, ax, ay, az, heat, mu;
+  // and the e* copies have n + g entries; heat n). `heat` is written by the forces pass and read
+  // by energy() at the end of the same step; between those it is free, and holds the kick's
+  // viscous heat in the rates pass and serves as the re-order's scratch column. h_mid lives from
+  // the rates pass's start (midpoint_smoothing_lengths) to the material update's end
+  // (evolve_switch), and is the search's reach in a build; from the forces pass to next_dt() it
+  // holds max_j |mu_ij| of each real particle (`mu` had its own column: 8 B per point).
+  AlignedVector<double> h, h_mid, ax, ay, az, heat;
   // Boundaries (DESIGN.md "The SPH step", boundaries): faces that reflect (symmetry, slip) and
   // faces that let particles out (outflow).
   std::array<bool, 6> mirror_face{}, outflow_face{};
