@@ -65,6 +65,19 @@ double SphSolver::Impl::particle_skins(double hmax, bool with_skin) {
   return exact_max(n, [&](std::size_t p) { return skin[p]; });
 }
 
+// The viscous weights' storage lent to the search for its sort buffers (NeighbourSearch::lend)
+// for a build or bin over `points` points: it is free in the search stage (the rates pass has
+// read the weights, the forces pass rewrites them), and mostly larger (~27 doubles per point in
+// the benchmark's cube against 4). Grown (its content dropped) where it is not.
+void SphSolver::Impl::lend_weights(std::size_t points) {
+  const std::size_t need = NeighbourSearch::sort_doubles(points);
+  if (pair_w.size() < need) {
+    std::vector<double>().swap(pair_w);
+    pair_w.resize(need);
+  }
+  search.lend(pair_w);
+}
+
 // Builds the lists with the particles' skins (particle_skins) and records the positions, h and
 // skins they were built at. With lists = false, only the cells of a build without a skin
 // (NeighbourSearch::bin), for a re-order: the same cells a full build gives, at a fraction of
@@ -78,8 +91,10 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
     lists_valid = false;
     if (mirrors) {
       make_ghosts(hmax);
+      lend_weights(n + ghosts.size());
       search.bin(ex.data(), ey.data(), ez.data(), h.data(), n + ghosts.size());
     } else {
+      lend_weights(n);
       search.bin(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
                  n);
     }
@@ -92,6 +107,7 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
   // The search's reach per point, h + s (h_mid is free here: the rates pass rewrites it), the
   // images taking their sources'; the search then lists pairs within (h_i + s_i) + (h_j + s_j).
   const std::size_t m = n + (mirrors ? ghosts.size() : 0);
+  lend_weights(m);
   h_mid.resize(m);
   for (std::size_t p = 0; p < n; ++p) h_mid[p] = h[p] + skin[p];
   for (std::size_t k = 0; k < m - n; ++k) h_mid[n + k] = h_mid[ghosts[k].src];

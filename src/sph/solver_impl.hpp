@@ -190,6 +190,7 @@ struct SphSolver::Impl {
   void resize(std::size_t n);
   void smoothing_lengths();
   double particle_skins(double hmax, bool with_skin);
+  void lend_weights(std::size_t points);
   void build_search(bool with_skin = true, bool lists = true);
   bool lists_still_cover() const;
   void reorder_by_cell(bool keep_lists);

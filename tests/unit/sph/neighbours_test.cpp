@@ -63,6 +63,20 @@ TEST(NeighbourSearch, RandomPointsWithVaryingHMatchBruteForce) {
   s.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size());
   expect_matches_brute_force(c, s);
   EXPECT_GE(s.cell_size(), 2.0 * *std::max_element(c.h.begin(), c.h.end()));
+  // The sort buffers in lent storage (NeighbourSearch::lend): the same lists and cells, the
+  // buffers' 32 B per point fewer held, and the storage used; too little lent: its own buffers.
+  std::vector<double> storage(NeighbourSearch::sort_doubles(c.size()), -1.0);
+  NeighbourSearch lent, short_lent;
+  lent.lend(storage);
+  lent.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size());
+  expect_matches_brute_force(c, lent);
+  EXPECT_TRUE(std::equal(lent.cells().begin(), lent.cells().end(), s.cells().begin()));
+  EXPECT_EQ(lent.bytes() + sizeof(double) * storage.size(), s.bytes());
+  EXPECT_NE(std::count(storage.begin(), storage.end(), -1.0), std::ptrdiff_t(storage.size()));
+  short_lent.lend(std::span<double>(storage).first(storage.size() - 1));
+  short_lent.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size());
+  expect_matches_brute_force(c, short_lent);
+  EXPECT_EQ(short_lent.bytes(), s.bytes());
 }
 
 TEST(NeighbourSearch, ClusteredPointsFarApartMatchBruteForce) {
