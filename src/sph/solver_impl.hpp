@@ -154,8 +154,10 @@ struct SphSolver::Impl {
   std::unique_ptr<gravity::SelfGravity> gravity;  // gravity.self only (sph/gravity.cpp)
   // Verlet lists: positions, h and half skins s_p at the last build (particle_skins), the
   // largest pair skin 2 max s_p (m), whether the lists are those of the current store (false
-  // after a restore or when particles left), and the number of builds.
-  AlignedVector<double> xb, yb, zb, hb, skin;
+  // after a restore or when particles left), and the number of builds. In single precision
+  // (20 B per point instead of 40): the skins and h rounded down (a build uses the rounded
+  // skins themselves), the positions to nearest, their rounding bounded in lists_still_cover.
+  std::vector<float> xb, yb, zb, hb, skin;
   double skin_abs = 0.0;
   bool lists_valid = false;
   std::uint64_t builds = 0;
