@@ -196,21 +196,58 @@ void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
   make_room(pair_mask, chunk_mask[chunks]);
 }
 
-// The weights of the chunks that found no room in pair_w (forces) and those that did, in chunk
-// order in a new pair_w with room for an eighth more.
+// A new layout of pair_w after a forces pass in which chunks found no room: each chunk's weights
+// (from its room, or from `spill` where it had none) at the start of a new room of an eighth
+// more than it needs (and 64), in chunk order. pair_w does not shrink (the search borrows it).
 void SphSolver::Impl::place_weights() {
   std::size_t total = 0;
-  for (const std::size_t c : chunk_w_count) total += c;
-  std::vector<double> placed(std::max(total, pair_w.capacity() + pair_w.capacity() / 8));
+  for (const std::size_t w : chunk_w_count) total += w + w / 8 + 64;
+  std::vector<double> placed(std::max(total, pair_w.size()));
   std::size_t at = 0;
   for (std::size_t c = 0; c < chunk_w.size(); ++c) {
     const double* from = spill[c].empty() ? pair_w.data() + chunk_w[c] : spill[c].data();
     std::copy(from, from + chunk_w_count[c], placed.data() + at);
     chunk_w[c] = at;
-    at += chunk_w_count[c];
+    chunk_room[c] = chunk_w_count[c] + chunk_w_count[c] / 8 + 64;
+    at += chunk_room[c];
     std::vector<double>().swap(spill[c]);
   }
   pair_w.swap(placed);
+}
+
+// The forces pass over chunk c's particles, their weights written straight into the chunk's room
+// in pair_w; a particle that might not fit (it writes at most its pair count) moves them to the
+// thread's buffer, and they end in spill[c]. Returns whether they did.
+bool SphSolver::Impl::forces_chunk(std::size_t c, const ks::PairInputs& in,
+                                   const ks::ForceInputs& f) {
+  const std::size_t begin = c * kPairGrain;
+  const std::size_t end = std::min(s.particles_.size(), begin + kPairGrain);
+  ks::ForceOutputs out{ax.data(),       ay.data(),    az.data(),
+                       heat.data(),     h_mid.data(), pair_w.data() + chunk_w[c],
+                       pair_mask.data()};
+  std::size_t w = 0, g = chunk_mask[c];
+  bool spilt = false;
+  for (std::size_t i = begin; i < end; ++i) {
+    if (!spilt && w + active_count[i] > chunk_room[c]) {
+      std::vector<double>& packed = packing.local();
+      std::size_t pairs = w;
+      for (std::size_t k = i; k < end; ++k) pairs += active_count[k];
+      if (packed.size() < pairs) packed.resize(pairs);
+      std::copy(out.pair_w, out.pair_w + w, packed.data());
+      out.pair_w = packed.data();
+      spilt = true;
+    }
+    w += ks::forces_particle<simd::Batch>(in, f, search.begin_of(i), active_count[i], i, out, w, g);
+    g += groups(active_count[i]);
+  }
+  chunk_w_count[c] = w;
+  if (spilt) {
+    // One past the weights, so that a spilt chunk is never empty (place_weights).
+    spill[c].reserve(w + 1);
+    spill[c].assign(out.pair_w, out.pair_w + w);
+    spill[c].push_back(0.0);
+  }
+  return spilt;
 }
 
 void SphSolver::Impl::forces() {
@@ -246,43 +283,19 @@ void SphSolver::Impl::forces() {
   for (int d = 0; d < 3; ++d) f.gravity[d] = s.config_.gravity[d];
   compact_lists(in);
   const std::size_t chunks = chunk_mask.size() - 1;
-  chunk_w.resize(chunks);
+  // Chunks new since the last layout have no room: they spill, and the pass lays pair_w out anew.
+  chunk_w.resize(chunks, 0);
+  chunk_room.resize(chunks, 0);
   chunk_w_count.resize(chunks);
   spill.resize(chunks);
   if (pair_w.empty()) pair_w.assign(1, 0.0);  // a valid pointer for the rates pass
-  pair_w_used.store(0);
   std::atomic<bool> spilled{false};
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::vector<double>& packed = packing.local();
-        for (std::size_t c = r.begin(); c < r.end(); ++c) {
-          const std::size_t begin = c * kPairGrain, end = std::min(n, begin + kPairGrain);
-          std::size_t pairs = 0;
-          for (std::size_t i = begin; i < end; ++i) pairs += active_count[i];
-          if (packed.size() < pairs + 1) packed.resize(pairs + 1);
-          const ks::ForceOutputs out{ax.data(),    ay.data(),     az.data(),       heat.data(),
-                                     h_mid.data(), packed.data(), pair_mask.data()};
-          std::size_t w = 0, g = chunk_mask[c];
-          for (std::size_t i = begin; i < end; ++i) {
-            w += ks::forces_particle<simd::Batch>(in, f, search.begin_of(i), active_count[i], i,
-                                                  out, w, g);
-            g += groups(active_count[i]);
-          }
-          // The chunk's room in pair_w: where the chunks before it (in time) have ended.
-          const std::size_t at = pair_w_used.fetch_add(w, std::memory_order_relaxed);
-          chunk_w_count[c] = w;
-          if (at + w <= pair_w.size()) {
-            std::copy(packed.data(), packed.data() + w, pair_w.data() + at);
-            chunk_w[c] = at;
-          } else {
-            // One past the weights, so that a spilt chunk is never empty (place_weights).
-            spill[c].reserve(w + 1);
-            spill[c].assign(packed.data(), packed.data() + w);
-            spill[c].push_back(0.0);
-            spilled.store(true, std::memory_order_relaxed);
-          }
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t c = r.begin(); c < r.end(); ++c) {
+                        if (forces_chunk(c, in, f)) spilled.store(true, std::memory_order_relaxed);
+                      }
+                    });
   if (spilled.load()) place_weights();
   if (s.config_.self_gravity.self) add_self_gravity();
   // The images' a^n, for the next kick's viscous heat (rates pass).

@@ -28,9 +28,9 @@ std::size_t SphSolver::bytes() const {
   }
   for (const auto* v : {&I.xb, &I.yb, &I.zb, &I.hb, &I.skin}) b += held(*v);
   for (const auto& v : I.a_stress) b += held(v);
-  b += held(I.pair_w) + held(I.pair_mask) + held(I.chunk_w) + held(I.chunk_w_count) +
-       held(I.chunk_mask) + held(I.spill) + held(I.active_count) + held(I.order) +
-       held(I.renumber) + held(I.ghosts) + held(I.kept_ghosts) + held(I.leaving);
+  b += held(I.pair_w) + held(I.pair_mask) + held(I.chunk_w) + held(I.chunk_room) +
+       held(I.chunk_w_count) + held(I.chunk_mask) + held(I.spill) + held(I.active_count) +
+       held(I.order) + held(I.renumber) + held(I.ghosts) + held(I.kept_ghosts) + held(I.leaving);
   for (const auto& v : I.rest) b += held(v);
   for (const auto& v : I.packing) b += held(v);
   for (const auto& v : I.spill) b += held(v);

@@ -130,16 +130,14 @@ struct SphSolver::Impl {
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rest;
   // The pairs' viscous weights (viscous_heating_term), per chunk of kPairGrain particles (the
   // passes run over whole chunks): only the non-zero ones, a chunk's in particle and list order
-  // from pair_w[chunk_w[c]] on (chunk_w_count[c] of them), and a byte per group of the SIMD
-  // width of list entries saying which are there, a chunk's from pair_mask[chunk_mask[c]] on.
-  // The forces pass packs a chunk's weights in a per-thread buffer (`packing`) and takes its
-  // room in pair_w when it ends (pair_w_used), so chunks lie in any order (their values do not
-  // depend on it); a chunk that finds no room keeps its weights in `spill` until the pass has
-  // ended, when pair_w grows (place_weights).
-  std::vector<std::size_t> chunk_w, chunk_w_count, chunk_mask;
+  // from pair_w[chunk_w[c]] on (chunk_w_count[c] of them, in a room of chunk_room[c]), and a
+  // byte per group of the SIMD width of list entries saying which are there, a chunk's from
+  // pair_mask[chunk_mask[c]] on. A chunk that outgrows its room moves its weights to a
+  // per-thread buffer (`packing`) and keeps them in `spill` until the pass has ended, when
+  // pair_w is laid out anew (place_weights).
+  std::vector<std::size_t> chunk_w, chunk_room, chunk_w_count, chunk_mask;
   std::vector<double> pair_w;
   std::vector<std::uint8_t> pair_mask;
-  std::atomic<std::size_t> pair_w_used{0};
   tbb::enumerable_thread_specific<std::vector<double>> packing;
   std::vector<std::vector<double>> spill;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
@@ -209,6 +207,7 @@ struct SphSolver::Impl {
   void drift(double dt);
   void compact_lists(const ks::PairInputs& in);
   void place_weights();
+  bool forces_chunk(std::size_t c, const ks::PairInputs& in, const ks::ForceInputs& f);
   void forces();
   void add_self_gravity();  // a += the particles' self-gravity (sph/gravity.cpp)
 
