@@ -234,8 +234,14 @@ void SphSolver::Impl::permute_lists() {
     for (auto& v : a_stress) v.resize(m);
     place_ghosts();
   }
-  search.permute(order, renumber);
-  lists_sorted = true;
+  // The lists as the last forces pass left them: the pairs within support first (active_count,
+  // permuted with the particles), the skin's entries after them. Only those first ones are
+  // sorted again, which is all compact_lists asks for (the skin's are sorted in there, by
+  // insertion, only when they come within support).
+  for (std::size_t k = 0; k < n; ++k) heat[k] = active_count[order[k]];  // uint32 -> double: exact
+  std::copy(heat.begin(), heat.begin() + static_cast<std::ptrdiff_t>(n), active_count.begin());
+  search.permute(order, renumber, active_count);
+  lists_sorted = false;
 }
 
 // Steps 5-6 of the header: a pure function of the columns (and of the step count, which picks

@@ -138,7 +138,8 @@ void NeighbourSearch::bin(const double* x, const double* y, const double* z, con
 }
 
 void NeighbourSearch::permute(std::span<const std::uint32_t> from,
-                              std::span<const std::uint32_t> to) {
+                              std::span<const std::uint32_t> to,
+                              std::span<const std::uint32_t> sort_first) {
   if (from.size() != lists_) {
     throw std::invalid_argument(fmt::format(
         "neighbour search: a permutation of {} lists for {} lists", from.size(), lists_));
@@ -168,7 +169,9 @@ void NeighbourSearch::permute(std::span<const std::uint32_t> from,
                         auto* list = const_cast<std::uint32_t*>(begin_[k]);
                         const std::size_t m = offsets_[k + 1] - offsets_[k];
                         for (std::size_t e = 0; e < m; ++e) list[e] = to[list[e]];
-                        if (!std::is_sorted(list, list + m)) std::sort(list, list + m);
+                        const std::size_t sort =
+                            sort_first.empty() ? m : std::min<std::size_t>(m, sort_first[k]);
+                        if (!std::is_sorted(list, list + sort)) std::sort(list, list + sort);
                       }
                     });
 }

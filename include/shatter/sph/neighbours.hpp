@@ -46,7 +46,11 @@ class NeighbourSearch {
   // cells or on the list's storage). The lists stay in their buffers (only where each one starts
   // moves), so nothing is copied and nothing allocated beyond 16 B per list; offset() is the new
   // numbering's. cells() is left as it was (the last bin's, before the renumbering).
-  void permute(std::span<const std::uint32_t> from, std::span<const std::uint32_t> to);
+  // With `sort_first` (one count per new list, at most its length), only the first
+  // sort_first[k] entries of list k are sorted, the others left in an order of no meaning (for a
+  // caller that re-arranged the lists: rearrange()).
+  void permute(std::span<const std::uint32_t> from, std::span<const std::uint32_t> to,
+               std::span<const std::uint32_t> sort_first = {});
 
   // Storage the caller lends for the sort buffers of the next build or bin (the points' cell
   // keys, 16 B per point, then in the same storage their positions and h in cell order, 32 B;
