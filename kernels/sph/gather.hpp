@@ -38,9 +38,15 @@ struct Lanes {
   static double gather(const double* col, const Index* idx, bool /*run*/) { return col[idx[0]]; }
   static double load(const double* p) { return *p; }
   static void store(double* p, double v) { *p = v; }
-  // The first `rem` (here 1) lanes from or to p (unaligned); load_first's other lanes are 0.
-  static double load_first(const double* p, std::size_t /*rem*/) { return *p; }
-  static void store_first(double* p, double v, std::size_t /*rem*/) { *p = v; }
+  // The non-zero lanes of v among the first rem, packed to p[0 ..) in lane order (the viscous
+  // weights, stored_weights below); returns which lanes (bit l: lane l) were written.
+  static unsigned store_nonzero(double* p, double v, std::size_t /*rem*/) {
+    if (v == 0.0) return 0u;
+    *p = v;
+    return 1u;
+  }
+  // The inverse: the lanes of `mask` from p[0 ..), +0 in the others.
+  static double load_nonzero(const double* p, unsigned mask) { return mask != 0u ? *p : 0.0; }
   static double sum(double v) { return v; }
   static double max(double v) { return v; }
 };
@@ -49,6 +55,7 @@ struct Lanes<xsimd::batch<double, A>> {
   using B = xsimd::batch<double, A>;
   static constexpr std::size_t width = B::size;
   using Index = std::int64_t;
+  static_assert(width <= 8, "a group's weight mask is one byte");
   // Element by element into an aligned buffer, then one load. Not the hardware gather: on the
   // development machine (AMD EPYC, AVX-512) vgatherqpd made the whole step 1.3x slower
   // (docs/performance.md, SPH section), and xsimd 8.1's batch::gather does not even reach it
@@ -61,35 +68,44 @@ struct Lanes<xsimd::batch<double, A>> {
   }
   static B load(const double* p) { return B::load_aligned(p); }
   static void store(double* p, const B& v) { v.store_aligned(p); }
-  // The per-pair weights of a group, read or written in place: a full group is one vector
-  // access; the last group of a list (rem < width lanes) a masked one with AVX-512, lane by lane
-  // otherwise. (Copied through a buffer by a loop of rem steps, GCC made a `rep movs` of it:
-  // 7.7 % of the cube's step under perf, session 19.) The values, and so the bits, are the same.
-  static B load_first(const double* p, std::size_t rem) {
-    if (rem == width) return B::load_unaligned(p);
+  // As Lanes<double>: with AVX-512, the lanes packed in a register (vcompresspd, whose store
+  // form is slow on Zen 4) and stored as one masked store, and read back as one masked load
+  // spread out in the register (vexpandpd).
+  static unsigned store_nonzero(double* p, const B& v, std::size_t rem) {
 #if defined(__AVX512F__)
     if constexpr (width == 8) {
-      return B(_mm512_maskz_loadu_pd(static_cast<__mmask8>((1u << rem) - 1u), p));
-    }
-#endif
-    alignas(64) double v[width] = {};
-    for (std::size_t l = 0; l < rem; ++l) v[l] = p[l];
-    return B::load_aligned(v);
-  }
-  static void store_first(double* p, const B& v, std::size_t rem) {
-    if (rem == width) {
-      v.store_unaligned(p);
-      return;
-    }
-#if defined(__AVX512F__)
-    if constexpr (width == 8) {
-      _mm512_mask_storeu_pd(p, static_cast<__mmask8>((1u << rem) - 1u), v);
-      return;
+      const auto mask = static_cast<__mmask8>(
+          _mm512_cmp_pd_mask(v, _mm512_setzero_pd(), _CMP_NEQ_UQ) & ((1u << rem) - 1u));
+      const auto packed = static_cast<__mmask8>((1u << __builtin_popcount(mask)) - 1u);
+      _mm512_mask_storeu_pd(p, packed, _mm512_maskz_compress_pd(mask, v));
+      return mask;
     }
 #endif
     alignas(64) double a[width];
     v.store_aligned(a);
-    for (std::size_t l = 0; l < rem; ++l) p[l] = a[l];
+    unsigned mask = 0u, m = 0u;
+    for (std::size_t l = 0; l < rem; ++l) {
+      if (a[l] != 0.0) {
+        p[m++] = a[l];
+        mask |= 1u << l;
+      }
+    }
+    return mask;
+  }
+  static B load_nonzero(const double* p, unsigned mask) {
+#if defined(__AVX512F__)
+    if constexpr (width == 8) {
+      const auto packed = static_cast<__mmask8>((1u << __builtin_popcount(mask)) - 1u);
+      return B(
+          _mm512_maskz_expand_pd(static_cast<__mmask8>(mask), _mm512_maskz_loadu_pd(packed, p)));
+    }
+#endif
+    alignas(64) double a[width] = {};
+    unsigned m = 0u;
+    for (std::size_t l = 0; l < width; ++l) {
+      if ((mask >> l) & 1u) a[l] = p[m++];
+    }
+    return B::load_aligned(a);
   }
   static double sum(const B& v) {
     return xsimd::hadd(v);
@@ -270,8 +286,9 @@ struct RateOutputs {
 // The kick's viscous heating, made in the same pass (viscous_heating_term). Optional: with
 // pair_w == nullptr no heat is computed.
 struct KickHeating {
-  const double* pair_w = nullptr;  // per list entry, from the force pass (ForceOutputs::pair_w)
-  const double* ax = nullptr;      // a^n of the kick
+  const double* pair_w = nullptr;  // the non-zero weights, from the force pass (ForceOutputs)
+  const std::uint8_t* pair_mask = nullptr;  // which entries they are (ForceOutputs)
+  const double* ax = nullptr;               // a^n of the kick
   const double* ay = nullptr;
   const double* az = nullptr;
   double dt_kick = 0.0;
@@ -303,13 +320,15 @@ inline void write_rates(const double (&Lsum)[3][3], double rho_i, double dt, con
 }
 
 // Pass 1 for particle i (positions x^n, velocities v^{n+1/2}) over its pairs within support
-// (nb, count; pair_w from list_offset on, entry for entry): velocity gradient from Eq. 18 (its
-// trace is Eq. 16) at the step's midpoint configuration, turned into the strain and spin
-// increments over dt and the density rho^{n+1}.
+// (nb, count; its viscous weights from pair_w + w_offset and pair_mask + mask_offset, as
+// forces_particle stored them): velocity gradient from Eq. 18 (its trace is Eq. 16) at the
+// step's midpoint configuration, turned into the strain and spin increments over dt and the
+// density rho^{n+1}. Returns how many weights it read.
 template <class T = double>
-inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::size_t count,
-                           std::size_t i, double dt, const RateOutputs& out,
-                           const KickHeating& kick = {}, std::size_t list_offset = 0) {
+inline std::size_t rates_particle(const PairInputs& in, const std::uint32_t* nb, std::size_t count,
+                                  std::size_t i, double dt, const RateOutputs& out,
+                                  const KickHeating& kick = {}, std::size_t w_offset = 0,
+                                  std::size_t mask_offset = 0) {
   using L = Lanes<T>;
   constexpr std::size_t W = L::width;
   // Local copies of the column pointers: the stores below cannot alias them in the compiler's
@@ -325,14 +344,16 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
     for (T& v : row) v = T(0.0);
   }
   T heat(0.0);
-  const double* w = kick.pair_w != nullptr ? kick.pair_w + list_offset : nullptr;
+  const double* w = kick.pair_w != nullptr ? kick.pair_w + w_offset : nullptr;
+  const std::uint8_t* wmask = kick.pair_mask + mask_offset;
+  std::size_t read = 0;
   const T half_kick(0.5 * kick.dt_kick);
   const T axi(w != nullptr ? kick.ax[i] : 0.0), ayi(w != nullptr ? kick.ay[i] : 0.0),
       azi(w != nullptr ? kick.az[i] : 0.0);
   alignas(64) std::int64_t idx[W];
   for (std::size_t k = 0; k < count; k += W) {
     bool run = false;
-    const std::size_t rem = group_indices<W>(nb, count, k, i, idx, run);
+    group_indices<W>(nb, count, k, i, idx, run);
     const T xj = L::gather(X, idx, run), yj = L::gather(Y, idx, run), zj = L::gather(Z, idx, run);
     const T dv[3] = {L::gather(VX, idx, run) - vi[0], L::gather(VY, idx, run) - vi[1],
                      L::gather(VZ, idx, run) - vi[2]};
@@ -343,7 +364,12 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
                        -dv[1] - half_kick * (ayi - L::gather(kick.ay, idx, run)),
                        -dv[2] - half_kick * (azi - L::gather(kick.az, idx, run))};
       const T xij[3] = {xi - xj, yi - yj, zi - zj};
-      viscous_heating_term(heat, L::load_first(w + k, rem), vm, xij);
+      // The weights of the group's non-zero lanes; a lane without one takes +0, which adds
+      // exactly nothing (a lane's sum starts at +0 and is never -0), as the -0 or +0 stored
+      // before did (Pi_ij = 0 off approach).
+      const unsigned m = wmask[k / W];
+      viscous_heating_term(heat, L::load_nonzero(w + read, m), vm, xij);
+      read += static_cast<std::size_t>(__builtin_popcount(m));
     }
     // Separation at the midpoint x^{n+1/2} = x^n + v^{n+1/2} dt / 2 of the step the increments
     // cover (midpoint rule: the stress work then matches the leapfrog's kinetic energy change
@@ -375,6 +401,7 @@ inline void rates_particle(const PairInputs& in, const std::uint32_t* nb, std::s
   }
   write_rates(Lsum, in.rho[i], dt, out, i);
   if (kick.heat != nullptr) kick.heat[i] = L::sum(heat) * kick.dt_kick;
+  return read;
 }
 
 // Pass 2 inputs besides PairInputs.
@@ -402,22 +429,30 @@ struct ForceOutputs {
   double* ax = nullptr;
   double* ay = nullptr;
   double* az = nullptr;
-  double* heat = nullptr;    // viscous heating rate at the force's velocities (J/kg/s)
-  double* mu = nullptr;      // max_j |mu_ij| (m/s), for the time step
-  double* pair_w = nullptr;  // per list entry: m_j Pi_ij F_ij, for viscous_heating_term
+  double* heat = nullptr;  // viscous heating rate at the force's velocities (J/kg/s)
+  double* mu = nullptr;    // max_j |mu_ij| (m/s), for the time step
+  // The viscous weights m_j Pi_ij F_ij for viscous_heating_term, only the non-zero ones (the
+  // pairs on approach: about half in the benchmark's cube), packed in list order; and per group
+  // of W list entries a byte whose bit l tells whether entry k + l has one.
+  double* pair_w = nullptr;
+  std::uint8_t* pair_mask = nullptr;
 };
 
-// Pass 2 for particle i over its pairs within support (nb, count; pair_w written from
-// list_offset on, entry for entry): Eq. 17 with the full stress, Monaghan's viscosity and its
-// heating (terms.hpp: stress_force_term, monaghan_viscosity_lanes, viscous_term), with constant
-// coefficients or the switch's per-particle alpha.
+// Pass 2 for particle i over its pairs within support (nb, count; its viscous weights written
+// to pair_w + w_offset and its groups' masks to pair_mask + mask_offset): Eq. 17 with the full
+// stress, Monaghan's viscosity and its heating (terms.hpp: stress_force_term,
+// monaghan_viscosity_lanes, viscous_term), with constant coefficients or the switch's
+// per-particle alpha. Returns how many weights it wrote.
 template <class T = double>
-inline void forces_particle(const PairInputs& in, const ForceInputs& f, const std::uint32_t* nb,
-                            std::size_t count, std::size_t i, const ForceOutputs& out,
-                            std::size_t list_offset = 0) {
+inline std::size_t forces_particle(const PairInputs& in, const ForceInputs& f,
+                                   const std::uint32_t* nb, std::size_t count, std::size_t i,
+                                   const ForceOutputs& out, std::size_t w_offset = 0,
+                                   std::size_t mask_offset = 0) {
   using L = Lanes<T>;
   constexpr std::size_t W = L::width;
-  double* w = out.pair_w != nullptr ? out.pair_w + list_offset : nullptr;
+  double* w = out.pair_w != nullptr ? out.pair_w + w_offset : nullptr;
+  std::uint8_t* wmask = out.pair_mask + mask_offset;
+  std::size_t written = 0;
   const double *X = in.x, *Y = in.y, *Z = in.z, *VX = in.vx, *VY = in.vy, *VZ = in.vz;
   const double *M = in.mass, *H = in.h, *R = in.rho, *C = f.soundspeed;
   const double* AS[6] = {f.a_stress[0], f.a_stress[1], f.a_stress[2],
@@ -464,13 +499,18 @@ inline void forces_particle(const PairInputs& in, const ForceInputs& f, const st
     viscous_term(acc, heat, mj, q.pi, vij, grad);
     mu_max = simd::vmax(mu_max, -q.mu);
     const T wv = mj * q.pi;
-    if (w != nullptr) L::store_first(w + k, wv * F, rem);
+    if (w != nullptr) {
+      const unsigned m = L::store_nonzero(w + written, wv * F, rem);
+      wmask[k / W] = static_cast<std::uint8_t>(m);
+      written += static_cast<std::size_t>(__builtin_popcount(m));
+    }
   }
   out.ax[i] = L::sum(acc[0]) + f.gravity[0];
   out.ay[i] = L::sum(acc[1]) + f.gravity[1];
   out.az[i] = L::sum(acc[2]) + f.gravity[2];
   out.heat[i] = L::sum(heat);
   out.mu[i] = L::max(mu_max);
+  return written;
 }
 
 }  // namespace shatter::kernels::sph

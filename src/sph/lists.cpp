@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <tbb/parallel_for.h>
@@ -15,7 +16,7 @@ namespace shatter::sph {
 // Real particles; make_ghosts() extends the per-point arrays for the images (within the
 // capacity once the image count stops growing: no allocation).
 void SphSolver::Impl::resize(std::size_t n) {
-  for (auto* v : {&h, &h_mid, &ax, &ay, &az, &heat, &mu}) v->resize(n);
+  for (auto* v : {&h, &h_mid, &ax, &ay, &az, &heat}) v->resize(n);
   for (auto& v : a_stress) v.resize(n);
 }
 
@@ -46,6 +47,12 @@ void SphSolver::Impl::smoothing_lengths() {
 namespace {
 constexpr double kSkinSteps = 16.0;
 constexpr double kSkinCap = 6.0;
+
+// v >= 0 as the largest float not above it.
+float round_down(double v) {
+  const auto f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? std::nextafter(f, 0.0f) : f;
+}
 }  // namespace
 
 double SphSolver::Impl::particle_skins(double hmax, bool with_skin) {
@@ -59,10 +66,23 @@ double SphSolver::Impl::particle_skins(double hmax, bool with_skin) {
       tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t p = r.begin(); p < r.end(); ++p) {
           const double v = std::sqrt(V[0][p] * V[0][p] + V[1][p] * V[1][p] + V[2][p] * V[2][p]);
-          skin[p] = std::min(kSkinCap * least, std::max(least, travel * v));
+          skin[p] = round_down(std::min(kSkinCap * least, std::max(least, travel * v)));
         }
       });
-  return exact_max(n, [&](std::size_t p) { return skin[p]; });
+  return exact_max(n, [&](std::size_t p) { return static_cast<double>(skin[p]); });
+}
+
+// The viscous weights' storage lent to the search for its sort buffers (NeighbourSearch::lend)
+// for a build or bin over `points` points: it is free in the search stage (the rates pass has
+// read the weights, the forces pass rewrites them), and mostly larger (~27 doubles per point in
+// the benchmark's cube against 4). Grown (its content dropped) where it is not.
+void SphSolver::Impl::lend_weights(std::size_t points) {
+  const std::size_t need = NeighbourSearch::sort_doubles(points);
+  if (pair_w.size() < need) {
+    std::vector<double>().swap(pair_w);
+    pair_w.resize(need);
+  }
+  search.lend(pair_w);
 }
 
 // Builds the lists with the particles' skins (particle_skins) and records the positions, h and
@@ -78,8 +98,10 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
     lists_valid = false;
     if (mirrors) {
       make_ghosts(hmax);
+      lend_weights(n + ghosts.size());
       search.bin(ex.data(), ey.data(), ez.data(), h.data(), n + ghosts.size());
     } else {
+      lend_weights(n);
       search.bin(P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data(), h.data(),
                  n);
     }
@@ -92,6 +114,7 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
   // The search's reach per point, h + s (h_mid is free here: the rates pass rewrites it), the
   // images taking their sources'; the search then lists pairs within (h_i + s_i) + (h_j + s_j).
   const std::size_t m = n + (mirrors ? ghosts.size() : 0);
+  lend_weights(m);
   h_mid.resize(m);
   for (std::size_t p = 0; p < n; ++p) h_mid[p] = h[p] + skin[p];
   for (std::size_t k = 0; k < m - n; ++k) h_mid[n + k] = h_mid[ghosts[k].src];
@@ -103,10 +126,11 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
   }
   const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
   for (auto* v : {&xb, &yb, &zb, &hb}) v->resize(n);
-  std::copy(X[0], X[0] + n, xb.begin());
-  std::copy(X[1], X[1] + n, yb.begin());
-  std::copy(X[2], X[2] + n, zb.begin());
-  std::copy(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n), hb.begin());
+  const auto nearest = [](double v) { return static_cast<float>(v); };
+  std::transform(X[0], X[0] + n, xb.begin(), nearest);
+  std::transform(X[1], X[1] + n, yb.begin(), nearest);
+  std::transform(X[2], X[2] + n, zb.begin(), nearest);
+  std::transform(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n), hb.begin(), round_down);
   lists_valid = true;
   lists_sorted = true;
   ++builds;
@@ -117,17 +141,25 @@ void SphSolver::Impl::build_search(bool with_skin, bool lists) {
 // distance fell by at most |dx_i| + |dx_j| and its support grew by at most dh_i+ + dh_j+, so
 // |dx_p| + dh_p+ below s_p for every p keeps it outside (an image moves and grows as its
 // source; an image not made was >= 2 max h + 2 max s from every real point). 1 % of each skin
-// is kept for round-off. Exact maximum: any thread count decides alike.
+// is kept for round-off. Exact maximum: any thread count decides alike. The build's positions
+// are held rounded to float, each within 2^-24 of its magnitude (FLT_MIN absolute where
+// subnormal): |dx_p| is at most the distance to the rounded position plus those bounds, taken
+// here as 2^-23 of each magnitude (twice the bound) plus FLT_MIN per axis; h at the build is
+// rounded down, which only overstates the growth.
 bool SphSolver::Impl::lists_still_cover() const {
   const ParticleStore& P = s.particles_;
   const std::size_t n = P.size();
   if (!lists_valid || xb.size() != n || skin.size() != n || !(skin_abs > 0.0)) return false;
   const auto x = P.col(Field::x), y = P.col(Field::y), z = P.col(Field::z);
+  const double kFloatMin = 3.0 * static_cast<double>(std::numeric_limits<float>::min());
   // Each term <= 0 where the particle is still covered; exact_max starts from 0.
   const double worst = exact_max(n, [&](std::size_t p) {
-    const double dx = x[p] - xb[p], dy = y[p] - yb[p], dz = z[p] - zb[p];
-    const double used = std::sqrt(dx * dx + dy * dy + dz * dz) + std::max(0.0, h[p] - hb[p]);
-    return used - 0.99 * skin[p];
+    const double xf = xb[p], yf = yb[p], zf = zb[p];
+    const double dx = x[p] - xf, dy = y[p] - yf, dz = z[p] - zf;
+    const double rounding = 0x1p-23 * (std::abs(xf) + std::abs(yf) + std::abs(zf)) + kFloatMin;
+    const double used = std::sqrt(dx * dx + dy * dy + dz * dz) + rounding +
+                        std::max(0.0, h[p] - static_cast<double>(hb[p]));
+    return used - 0.99 * static_cast<double>(skin[p]);
   });
   return worst <= 0.0;
 }
@@ -170,7 +202,7 @@ void SphSolver::Impl::permute_lists() {
   // Build state: new k from old order[k] (heat as the scratch copy, as permute_switch does: the
   // forces pass after the re-order rewrites it).
   for (auto* v : {&xb, &yb, &zb, &hb, &skin}) {
-    for (std::size_t k = 0; k < n; ++k) heat[k] = (*v)[order[k]];
+    for (std::size_t k = 0; k < n; ++k) heat[k] = (*v)[order[k]];  // float -> double: exact
     std::copy(heat.begin(), heat.begin() + static_cast<std::ptrdiff_t>(n), v->begin());
   }
   // The images: sources renumbered, then sorted by (source, sides in make_ghosts' order); the
@@ -202,8 +234,14 @@ void SphSolver::Impl::permute_lists() {
     for (auto& v : a_stress) v.resize(m);
     place_ghosts();
   }
-  search.permute(order, renumber);
-  lists_sorted = true;
+  // The lists as the last forces pass left them: the pairs within support first (active_count,
+  // permuted with the particles), the skin's entries after them. Only those first ones are
+  // sorted again, which is all compact_lists asks for (the skin's are sorted in there, by
+  // insertion, only when they come within support).
+  for (std::size_t k = 0; k < n; ++k) heat[k] = active_count[order[k]];  // uint32 -> double: exact
+  std::copy(heat.begin(), heat.begin() + static_cast<std::ptrdiff_t>(n), active_count.begin());
+  search.permute(order, renumber, active_count);
+  lists_sorted = false;
 }
 
 // Steps 5-6 of the header: a pure function of the columns (and of the step count, which picks

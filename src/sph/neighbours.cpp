@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <numeric>
 #include <stdexcept>
 
@@ -110,12 +111,19 @@ std::size_t NeighbourSearch::bytes() const {
   return sizeof(std::uint32_t) * (cell_.capacity() + cell_start_.capacity() + sorted_.capacity()) +
          sizeof(std::size_t) * offsets_.capacity() +
          sizeof(const std::uint32_t*) * begin_.capacity() +
-         sizeof(std::uint64_t) * cell_key_.capacity() + sizeof(KeyIndex) * keyed_.capacity() +
-         sizeof(double) * (xs_.capacity() + ys_.capacity() + zs_.capacity() + hs_.capacity()) +
+         sizeof(std::uint64_t) * cell_key_.capacity() + sizeof(double) * own_.capacity() +
          std::accumulate(chunk_list_.begin(), chunk_list_.end(), std::size_t{0},
                          [](std::size_t a, const std::vector<std::uint32_t>& v) {
                            return a + sizeof(std::uint32_t) * v.capacity();
                          });
+}
+
+double* NeighbourSearch::sort_storage(std::size_t n) {
+  static_assert(sizeof(KeyIndex) <= 4 * sizeof(double) && alignof(KeyIndex) <= alignof(double));
+  const std::size_t need = sort_doubles(n);
+  if (lent_.size() >= need) return lent_.data();
+  if (own_.size() < need) own_.resize(need);
+  return own_.data();
 }
 
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
@@ -126,10 +134,12 @@ void NeighbourSearch::build(const double* x, const double* y, const double* z, c
 void NeighbourSearch::bin(const double* x, const double* y, const double* z, const double* h,
                           std::size_t n) {
   sort_by_cell(x, y, z, h, n, 0, 0.0, true);
+  lent_ = {};
 }
 
 void NeighbourSearch::permute(std::span<const std::uint32_t> from,
-                              std::span<const std::uint32_t> to) {
+                              std::span<const std::uint32_t> to,
+                              std::span<const std::uint32_t> sort_first) {
   if (from.size() != lists_) {
     throw std::invalid_argument(fmt::format(
         "neighbour search: a permutation of {} lists for {} lists", from.size(), lists_));
@@ -159,15 +169,17 @@ void NeighbourSearch::permute(std::span<const std::uint32_t> from,
                         auto* list = const_cast<std::uint32_t*>(begin_[k]);
                         const std::size_t m = offsets_[k + 1] - offsets_[k];
                         for (std::size_t e = 0; e < m; ++e) list[e] = to[list[e]];
-                        if (!std::is_sorted(list, list + m)) std::sort(list, list + m);
+                        const std::size_t sort =
+                            sort_first.empty() ? m : std::min<std::size_t>(m, sort_first[k]);
+                        if (!std::is_sorted(list, list + sort)) std::sort(list, list + sort);
                       }
                     });
 }
 
 void NeighbourSearch::build(const double* x, const double* y, const double* z, const double* h,
                             std::size_t n, std::size_t n_lists, double skin) {
-  if (!sort_by_cell(x, y, z, h, n, n_lists, skin)) return;
-  make_lists(x, y, z, h, n, n_lists, skin);
+  if (sort_by_cell(x, y, z, h, n, n_lists, skin)) make_lists(x, y, z, h, n, n_lists, skin);
+  lent_ = {};
 }
 
 bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const double* z,
@@ -177,7 +189,7 @@ bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const doubl
   n_ = n;
   cell_.resize(n);
   sorted_.resize(n);
-  keyed_.resize(n);
+  keyed_ = reinterpret_cast<KeyIndex*>(sort_storage(n));
   if (!keep_lists) {
     lists_ = n_lists;
     listed_ = n;
@@ -205,12 +217,12 @@ bool NeighbourSearch::sort_by_cell(const double* x, const double* y, const doubl
           for (int d = 0; d < 3; ++d) {
             k[d] = std::min(static_cast<std::uint64_t>((c[d] - lo[d]) * inv), kAxisCells - 1);
           }
-          keyed_[p] = {key_of(k[0], k[1], k[2]), static_cast<std::uint32_t>(p)};
+          new (keyed_ + p) KeyIndex{key_of(k[0], k[1], k[2]), static_cast<std::uint32_t>(p)};
         }
       });
   // (key, index) pairs are unique, so the sorted order is the same whatever the sort's
   // schedule: points of one cell in ascending index order.
-  tbb::parallel_sort(keyed_.begin(), keyed_.end());
+  tbb::parallel_sort(keyed_, keyed_ + n);
   for (std::size_t s = 0; s < n; ++s) {
     sorted_[s] = keyed_[s].index;
     if (s == 0 || keyed_[s].key != keyed_[s - 1].key) {
@@ -227,15 +239,19 @@ void NeighbourSearch::make_lists(const double* x, const double* y, const double*
                                  std::size_t n, std::size_t n_lists, double skin) {
   // The positions and h in sorted order: the candidates of a row of cells are then one
   // contiguous run of each column (no indirection per candidate).
-  for (auto* v : {&xs_, &ys_, &zs_, &hs_}) v->resize(n);
+  // They take the storage of the keys, which sort_by_cell has read (sorted_, cell_).
+  xs_ = sort_storage(n);
+  ys_ = xs_ + n;
+  zs_ = ys_ + n;
+  hs_ = zs_ + n;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t s = r.begin(); s < r.end(); ++s) {
                         const std::uint32_t p = sorted_[s];
-                        xs_[s] = x[p];
-                        ys_[s] = y[p];
-                        zs_[s] = z[p];
-                        hs_[s] = h[p];
+                        new (xs_ + s) double(x[p]);
+                        new (ys_ + s) double(y[p]);
+                        new (zs_ + s) double(z[p]);
+                        new (hs_ + s) double(h[p]);
                       }
                     });
 

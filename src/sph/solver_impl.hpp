@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -36,6 +37,12 @@ namespace ks = kernels::sph;
 // number of threads, so their sums have the same bits.
 inline constexpr std::size_t kGrain = 2048;
 inline constexpr std::size_t kPairGrain = 256;
+
+// Groups of the SIMD width in a list of `count` pairs: the bytes of its viscous weights' mask.
+inline std::size_t groups(std::size_t count) {
+  constexpr std::size_t W = kernels::sph::Lanes<simd::Batch>::width;
+  return (count + W - 1) / W;
+}
 
 template <class F>
 double deterministic_sum(std::size_t n, F&& term) {
@@ -98,10 +105,13 @@ struct SphSolver::Impl {
   tbb::task_arena arena;
   NeighbourSearch search;
   // Real particles 0 .. n-1, then mirror particles n .. n+g-1 (h, h_mid, ax, ay, az, a_stress
-  // and the e* copies have n + g entries; heat and mu n). `heat` is written by the forces pass
-  // and read by energy() at the end of the same step; between those it is free, and holds the
-  // kick's viscous heat in the rates pass and serves as the re-order's scratch column.
-  AlignedVector<double> h, h_mid, ax, ay, az, heat, mu;
+  // and the e* copies have n + g entries; heat n). `heat` is written by the forces pass and read
+  // by energy() at the end of the same step; between those it is free, and holds the kick's
+  // viscous heat in the rates pass and serves as the re-order's scratch column. h_mid lives from
+  // the rates pass's start (midpoint_smoothing_lengths) to the material update's end
+  // (evolve_switch), and is the search's reach in a build; from the forces pass to next_dt() it
+  // holds max_j |mu_ij| of each real particle (`mu` had its own column: 8 B per point).
+  AlignedVector<double> h, h_mid, ax, ay, az, heat;
   // Boundaries (DESIGN.md "The SPH step", boundaries): faces that reflect (symmetry, slip) and
   // faces that let particles out (outflow).
   std::array<bool, 6> mirror_face{}, outflow_face{};
@@ -114,12 +124,22 @@ struct SphSolver::Impl {
   // The pairs within support at the last forces pass: the first active_count[i] entries of i's
   // Verlet list, in ascending order (compact_lists re-arranges each list in place); whether the
   // lists are as a build or permute left them (ascending throughout); scratch per thread for the
-  // re-arrangement; and the pairs' viscous weights (viscous_heating_term).
+  // re-arrangement.
   std::vector<std::uint32_t> active_count;
   bool lists_sorted = false;
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rest;
-  std::vector<std::size_t> pair_at;  // n + 1: particle i's weights are pair_w[pair_at[i]...]
+  // The pairs' viscous weights (viscous_heating_term), per chunk of kPairGrain particles (the
+  // passes run over whole chunks): only the non-zero ones, a chunk's in particle and list order
+  // from pair_w[chunk_w[c]] on (chunk_w_count[c] of them, in a room of chunk_room[c]), and a
+  // byte per group of the SIMD width of list entries saying which are there, a chunk's from
+  // pair_mask[chunk_mask[c]] on. A chunk that outgrows its room moves its weights to a
+  // per-thread buffer (`packing`) and keeps them in `spill` until the pass has ended, when
+  // pair_w is laid out anew (place_weights).
+  std::vector<std::size_t> chunk_w, chunk_room, chunk_w_count, chunk_mask;
   std::vector<double> pair_w;
+  std::vector<std::uint8_t> pair_mask;
+  tbb::enumerable_thread_specific<std::vector<double>> packing;
+  std::vector<std::vector<double>> spill;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
   // The Morris & Monaghan switch: alpha per particle (state: follows the particles through the
   // re-order and the outflow; real then mirror entries). The normalized continuity: a copy of
@@ -132,8 +152,10 @@ struct SphSolver::Impl {
   std::unique_ptr<gravity::SelfGravity> gravity;  // gravity.self only (sph/gravity.cpp)
   // Verlet lists: positions, h and half skins s_p at the last build (particle_skins), the
   // largest pair skin 2 max s_p (m), whether the lists are those of the current store (false
-  // after a restore or when particles left), and the number of builds.
-  AlignedVector<double> xb, yb, zb, hb, skin;
+  // after a restore or when particles left), and the number of builds. In single precision
+  // (20 B per point instead of 40): the skins and h rounded down (a build uses the rounded
+  // skins themselves), the positions to nearest, their rounding bounded in lists_still_cover.
+  std::vector<float> xb, yb, zb, hb, skin;
   double skin_abs = 0.0;
   bool lists_valid = false;
   std::uint64_t builds = 0;
@@ -168,6 +190,7 @@ struct SphSolver::Impl {
   void resize(std::size_t n);
   void smoothing_lengths();
   double particle_skins(double hmax, bool with_skin);
+  void lend_weights(std::size_t points);
   void build_search(bool with_skin = true, bool lists = true);
   bool lists_still_cover() const;
   void reorder_by_cell(bool keep_lists);
@@ -183,6 +206,8 @@ struct SphSolver::Impl {
   void material(double dt);
   void drift(double dt);
   void compact_lists(const ks::PairInputs& in);
+  void place_weights();
+  bool forces_chunk(std::size_t c, const ks::PairInputs& in, const ks::ForceInputs& f);
   void forces();
   void add_self_gravity();  // a += the particles' self-gravity (sph/gravity.cpp)
 

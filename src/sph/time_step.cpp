@@ -49,6 +49,7 @@ double SphSolver::Impl::stable_dt() const {
   const double b_visc = switch_on ? 2.0 * s.sph_.alpha_max : s.sph_.beta;
   const double cfl = s.config_.cfl;
   const double inf = std::numeric_limits<double>::infinity();
+  const double* mu = h_mid.data();  // max_j |mu_ij| from the forces pass (solver_impl.hpp)
   const double dt = exact_min(P.size(), inf, [&](std::size_t p) {
     const double sig = c[p] + 1.2 * (a_visc * c[p] + b_visc * mu[p]);
     const double dt_c = sig > 0.0 ? cfl * h[p] / sig : inf;

@@ -46,7 +46,18 @@ class NeighbourSearch {
   // cells or on the list's storage). The lists stay in their buffers (only where each one starts
   // moves), so nothing is copied and nothing allocated beyond 16 B per list; offset() is the new
   // numbering's. cells() is left as it was (the last bin's, before the renumbering).
-  void permute(std::span<const std::uint32_t> from, std::span<const std::uint32_t> to);
+  // With `sort_first` (one count per new list, at most its length), only the first
+  // sort_first[k] entries of list k are sorted, the others left in an order of no meaning (for a
+  // caller that re-arranged the lists: rearrange()).
+  void permute(std::span<const std::uint32_t> from, std::span<const std::uint32_t> to,
+               std::span<const std::uint32_t> sort_first = {});
+
+  // Storage the caller lends for the sort buffers of the next build or bin (the points' cell
+  // keys, 16 B per point, then in the same storage their positions and h in cell order, 32 B;
+  // free again when it returns), at least sort_doubles(n) doubles for n points. The search then
+  // holds none of its own; with too little (or none: the default) it uses its own buffers.
+  void lend(std::span<double> storage) { lent_ = storage; }
+  static std::size_t sort_doubles(std::size_t n) { return 4 * n; }
 
   // Points in the last build, and those with a list.
   std::size_t size() const { return n_; }
@@ -98,7 +109,13 @@ class NeighbourSearch {
   std::size_t lists_ = 0;
   std::size_t listed_ = 0;  // points the lists' entries number (n of the last build or permute)
   double cell_size_ = 0.0;
-  std::vector<KeyIndex> keyed_;            // (cell key, point) sorted
+  // The sort buffers, in lent_ or own_ (sort_storage): (cell key, point) sorted, during a bin or
+  // build; then, in the same storage, positions and h in sorted order, during a build.
+  double* sort_storage(std::size_t n);
+  std::span<double> lent_;
+  std::vector<double> own_;
+  KeyIndex* keyed_ = nullptr;
+  double *xs_ = nullptr, *ys_ = nullptr, *zs_ = nullptr, *hs_ = nullptr;
   std::vector<std::uint64_t> cell_key_;    // occupied cells' keys, ascending
   std::vector<std::uint32_t> cell_;        // occupied-cell index of each point
   std::vector<std::uint32_t> cell_start_;  // first sorted slot of each occupied cell (+1 sentinel)
@@ -106,7 +123,6 @@ class NeighbourSearch {
   std::vector<std::size_t> offsets_;       // CSR offsets of the lists in index order (n + 1)
   // Point i's list, in its chunk's buffer (the lists stay there: no copy into one array).
   std::vector<const std::uint32_t*> begin_;
-  std::vector<double> xs_, ys_, zs_, hs_;               // positions and h in sorted order
   std::vector<std::vector<std::uint32_t>> chunk_list_;  // per chunk of points, reused
 };
 

@@ -63,6 +63,20 @@ TEST(NeighbourSearch, RandomPointsWithVaryingHMatchBruteForce) {
   s.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size());
   expect_matches_brute_force(c, s);
   EXPECT_GE(s.cell_size(), 2.0 * *std::max_element(c.h.begin(), c.h.end()));
+  // The sort buffers in lent storage (NeighbourSearch::lend): the same lists and cells, the
+  // buffers' 32 B per point fewer held, and the storage used; too little lent: its own buffers.
+  std::vector<double> storage(NeighbourSearch::sort_doubles(c.size()), -1.0);
+  NeighbourSearch lent, short_lent;
+  lent.lend(storage);
+  lent.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size());
+  expect_matches_brute_force(c, lent);
+  EXPECT_TRUE(std::equal(lent.cells().begin(), lent.cells().end(), s.cells().begin()));
+  EXPECT_EQ(lent.bytes() + sizeof(double) * storage.size(), s.bytes());
+  EXPECT_NE(std::count(storage.begin(), storage.end(), -1.0), std::ptrdiff_t(storage.size()));
+  short_lent.lend(std::span<double>(storage).first(storage.size() - 1));
+  short_lent.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size());
+  expect_matches_brute_force(c, short_lent);
+  EXPECT_EQ(short_lent.bytes(), s.bytes());
 }
 
 TEST(NeighbourSearch, ClusteredPointsFarApartMatchBruteForce) {
@@ -152,6 +166,26 @@ TEST(NeighbourSearch, PermutedListsAreTheListsOfABuildInTheNewNumbering) {
     }
     EXPECT_GT(moved, kLists / 2);
   }
+  // Sorting only the first half of each list (sort_first): those entries ascending, and each list
+  // holding the same entries as the fresh one.
+  NeighbourSearch half;
+  half.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), kPoints, kLists, kSkin);
+  std::vector<std::uint32_t> first(kLists);
+  for (std::size_t k = 0; k < kLists; ++k) {
+    first[k] = static_cast<std::uint32_t>(half.count(from[k]) / 2);
+  }
+  half.permute({from.data(), kLists}, to, first);
+  std::size_t unsorted = 0;
+  for (std::size_t i = 0; i < kLists; ++i) {
+    const auto a = half.of(i);
+    ASSERT_TRUE(std::is_sorted(a.begin(), a.begin() + first[i])) << "point " << i;
+    unsorted += std::is_sorted(a.begin(), a.end()) ? 0 : 1;
+    std::vector<std::uint32_t> got(a.begin(), a.end());
+    std::sort(got.begin(), got.end());
+    const auto b = fresh.of(i);
+    ASSERT_TRUE(std::equal(got.begin(), got.end(), b.begin(), b.end())) << "point " << i;
+  }
+  EXPECT_GT(unsorted, kLists / 2);  // the rest was left as it came
   // A renumbering of the wrong number of lists or points: refused.
   NeighbourSearch s;
   s.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), kPoints, kLists, kSkin);

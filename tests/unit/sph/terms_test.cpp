@@ -250,21 +250,41 @@ TEST(GatherPasses, SimdLanesMatchTheScalarReference) {
     using T = decltype(lanes);
     Result R;
     for (auto* v : {&R.ax, &R.ay, &R.az, &R.heat, &R.mu, &R.kick_heat}) v->assign(N, 0.0);
-    R.pair_w.assign(offset[N], 0.0);
-    const ForceOutputs fo{R.ax.data(),   R.ay.data(), R.az.data(),
-                          R.heat.data(), R.mu.data(), R.pair_w.data()};
+    // The weights as the forces pass packs them (the non-zero ones and a mask byte per group
+    // of W entries), and spread back out, entry for entry, to compare the two paths.
+    constexpr std::size_t W = Lanes<T>::width;
+    std::vector<double> packed(offset[N] + 1, 0.0);
+    std::vector<std::uint8_t> masks(offset[N] + N, 0);
+    std::vector<std::size_t> w_at(N + 1, 0), mask_at(N + 1, 0);
+    const ForceOutputs fo{R.ax.data(), R.ay.data(),   R.az.data(), R.heat.data(),
+                          R.mu.data(), packed.data(), masks.data()};
     for (std::size_t i = 0; i < N; ++i) {
-      forces_particle<T>(in, f, B.nb[i].data(), B.nb[i].size(), i, fo, offset[i]);
+      const std::size_t count = B.nb[i].size();
+      w_at[i + 1] =
+          w_at[i] + forces_particle<T>(in, f, B.nb[i].data(), count, i, fo, w_at[i], mask_at[i]);
+      mask_at[i + 1] = mask_at[i] + (count + W - 1) / W;
     }
+    R.pair_w.assign(offset[N], 0.0);
+    for (std::size_t i = 0; i < N; ++i) {
+      std::size_t from = w_at[i];
+      for (std::size_t k = 0; k < B.nb[i].size(); ++k) {
+        if ((masks[mask_at[i] + k / W] >> (k % W)) & 1u) R.pair_w[offset[i] + k] = packed[from++];
+      }
+      EXPECT_EQ(from, w_at[i + 1]);
+    }
+    EXPECT_GT(w_at[N], 0u);  // some pairs approach, others not: both paths of the packing
+    EXPECT_LT(w_at[N], offset[N]);
     RateOutputs ro;
     for (int k = 0; k < 6; ++k) ro.deps[k] = (R.deps[k] = std::vector<double>(N)).data();
     for (int k = 0; k < 3; ++k) ro.dspin[k] = (R.dspin[k] = std::vector<double>(N)).data();
     R.rho = B.rho;
     ro.rho = R.rho.data();
-    KickHeating kick{R.pair_w.data(), a[0].data(), a[1].data(),
-                     a[2].data(),     1e-7,        R.kick_heat.data()};
+    KickHeating kick{packed.data(), masks.data(), a[0].data(),       a[1].data(),
+                     a[2].data(),   1e-7,         R.kick_heat.data()};
     for (std::size_t i = 0; i < N; ++i) {
-      rates_particle<T>(in, B.nb[i].data(), B.nb[i].size(), i, 1e-7, ro, kick, offset[i]);
+      EXPECT_EQ(rates_particle<T>(in, B.nb[i].data(), B.nb[i].size(), i, 1e-7, ro, kick, w_at[i],
+                                  mask_at[i]),
+                w_at[i + 1] - w_at[i]);
     }
     return R;
   };
