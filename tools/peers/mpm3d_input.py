@@ -138,12 +138,12 @@ def main():
 
     # grid
     if a.margin >= 0:
-        lo = x.min(axis=0) - a.margin * h
+        # on shatter's grid lines (nodes at domain.lo + k h), so the shape functions are the same
+        dlo = np.array(scene["domain"]["lo"], dtype=float)
+        dhi = np.array(scene["domain"]["hi"], dtype=float)
+        lo = dlo + np.floor((x.min(axis=0) - a.margin * h - dlo) / h) * h
         hi = x.max(axis=0) + a.margin * h
-        plane = solver.get("symmetry_plane", "none")
-        if plane != "none":
-            k = "xyz".index(plane)
-            lo[k] = float(scene["domain"]["lo"][k])
+        lo, hi = np.maximum(lo, dlo), np.minimum(hi, dhi)
     else:
         lo = np.array(scene["domain"]["lo"], dtype=float)
         hi = np.array(scene["domain"]["hi"], dtype=float)
