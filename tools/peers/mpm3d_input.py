@@ -17,9 +17,10 @@ What is matched and what is only the nearest MPM3D-F90 offers (each printed to s
     in MPM3D-F90 units mm, g, ms, N, MPa; shape "gimp" = uGIMP with the particle half-width of
     a quarter cell (Grid.f90, NShape_GIMP), which is shatter's ugimp at 2 points per cell;
     27 nodes per point in both.
-  * a symmetry plane z = lo (or x, y) -> "fixed" on that face (the normal grid velocity is
-    zeroed there, Grid.f90 bd_type); shatter's outflow faces have no MPM3D-F90 counterpart and
-    stay free.
+  * a symmetry plane at lo (and slip or symmetry faces) -> "fixed" code 2 on that face: the
+    normal grid velocity zeroed (Grid.f90 SetGridData; with gimp on the two outer node layers);
+    code 1 clamps all three components (with gimp on two layers) and is written only for
+    shatter's "fixed" faces. shatter's outflow faces have no MPM3D-F90 counterpart: free.
   * strength: shatter's linear_hardening (Y = yield + plastic_modulus * eps_p) -> "sjc"
     (simplified Johnson-Cook, Constitution.f90 M3DM5) with A = yield, B = plastic_modulus,
     n = 1, C = 0: the same yield law. Damage is not written (the compared run has none).
@@ -155,13 +156,15 @@ def main():
     fixed = [0] * 6
     plane = solver.get("symmetry_plane", "none")
     if plane != "none":
-        fixed[2 * "xyz".index(plane)] = 1
-        note(f"symmetry plane {plane} = lo -> fixed (normal velocity zero) on that face")
+        fixed[2 * "xyz".index(plane)] = 2
+        note(f"symmetry plane {plane} = lo -> fixed code 2 (normal velocity zero) on that face")
     dom = scene.get("domain", {})
     for k, face in enumerate(["x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi"]):
         kind = dom.get(face, dom.get("boundary", "none"))
-        if kind in ("fixed", "slip", "symmetry"):
+        if kind == "fixed":
             fixed[k] = 1
+        elif kind in ("slip", "symmetry"):
+            fixed[k] = 2
         elif kind == "outflow":
             pass  # no counterpart: free
 
