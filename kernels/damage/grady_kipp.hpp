@@ -41,14 +41,40 @@ struct GradyKipp {
 
   template <class T>
   T evolve(const DamageInput<T>& in, DamageState<T>& st) const {
-    if (!may_activate(in, st)) {
+    const Matrix<T> m = matrix(in, st.damage);
+    if (!may_activate(in, st, m)) {
       // No lane reaches its weakest flaw: n_act = 0 zeroes Eq. 19's increment and BA95 Eq. 22's
       // cap, so the full path below would keep D and store n_act = 0; done here without the
       // Jacobi sweeps and the exp, log and cbrt (~10 % of a laboratory impact's step).
       st.n_active = T(0.0);
       return st.damage;
     }
-    return evolve_full(in, st);
+    return evolve_full(in, st, m);
+  }
+
+  // Eq. 18 reads sigma_max of the damaged stress sigma of Eq. 14 and divides by (1 - D) to get
+  // the strain of the intact matrix that bears it (MPM paper Sec. 5.1). in.s is the intact
+  // stress, so sigma is rebuilt: sigma = (1 - D) s' - p* I, p* = (1 - D) p in tension.
+  // Dividing the intact stress by (1 - D) a second time would amplify the strain by 1/(1 - D)
+  // and, with m_p ~ 40, drive any damaged particle in tension to D = 1 in one step.
+  template <class T>
+  struct Matrix {
+    T intact;    // 1 - D, bounded below
+    T pressure;  // of the intact stress
+    T p_star;    // p*: the part of the pressure the damaged particle bears
+  };
+  template <class T>
+  Matrix<T> matrix(const DamageInput<T>& in, const T& damage) const {
+    const T intact = xsimd::max(T(1.0) - damage, T(params.min_intact_fraction));
+    const T pressure = (in.s[0] + in.s[1] + in.s[2]) * T(-1.0 / 3.0);
+    return {intact, pressure, simd::vselect(pressure < T(0.0), intact * pressure, pressure)};
+  }
+  // Eq. 18's strain for `largest`, the largest principal value of the intact stress
+  // s (-p I shifts all principal values alike, so the largest of sigma follows from that of s).
+  template <class T>
+  T strain(const DamageInput<T>& in, const Matrix<T>& m, const T& largest) const {
+    const T sigma_max = m.intact * (largest + m.pressure) - m.p_star;
+    return xsimd::max(sigma_max, T(0.0)) / (m.intact * in.young);
   }
 
   // Whether any lane may reach its weakest flaw's threshold. An upper bound of Eq. 18's strain
@@ -57,34 +83,20 @@ struct GradyKipp {
   // sweeps' round-off (7 eps ||s||, principal.hpp) and the few roundings after it, so that a
   // batch declared inactive here is one the full path finds inactive in every lane.
   template <class T>
-  bool may_activate(const DamageInput<T>& in, const DamageState<T>& st) const {
+  bool may_activate(const DamageInput<T>& in, const DamageState<T>& st, const Matrix<T>& m) const {
     const T a3 = simd::vabs(in.s[3]), a4 = simd::vabs(in.s[4]), a5 = simd::vabs(in.s[5]);
     const T rows = xsimd::max(in.s[0] + a3 + a5, xsimd::max(in.s[1] + a3 + a4, in.s[2] + a4 + a5));
     const T size =
         simd::vabs(in.s[0]) + simd::vabs(in.s[1]) + simd::vabs(in.s[2]) + T(2.0) * (a3 + a4 + a5);
-    const T intact = xsimd::max(T(1.0) - st.damage, T(params.min_intact_fraction));
-    const T pressure = (in.s[0] + in.s[1] + in.s[2]) * T(-1.0 / 3.0);
-    const T p_star = simd::vselect(pressure < T(0.0), intact * pressure, pressure);
-    const T sigma_hi = intact * (rows + T(1.0e-6) * size + pressure) - p_star;
-    const T eps_hi = xsimd::max(sigma_hi, T(0.0)) / (intact * in.young);
+    const T eps_hi = strain(in, m, rows + T(1.0e-6) * size);
     return simd::any((eps_hi >= st.eps_min) && (st.eps_min > T(0.0)));
   }
 
-  // Eqs. 17-19 and BA95 Eq. 22 in every lane.
+  // Eqs. 17-19 and BA95 Eq. 22 in every lane; m = matrix(in, st.damage).
   template <class T>
-  T evolve_full(const DamageInput<T>& in, DamageState<T>& st) const {
+  T evolve_full(const DamageInput<T>& in, DamageState<T>& st, const Matrix<T>& m) const {
     const T d_old = st.damage;
-    // Eq. 18 reads sigma_max of the damaged stress sigma of Eq. 14 and divides by (1 - D) to get
-    // the strain of the intact matrix that bears it (MPM paper Sec. 5.1). in.s is the intact
-    // stress, so sigma is rebuilt here: sigma = (1 - D) s' - p* I, p* = (1 - D) p in tension.
-    // Dividing the intact stress by (1 - D) a second time would amplify the strain by 1/(1 - D)
-    // and, with m_p ~ 40, drive any damaged particle in tension to D = 1 in one step.
-    const T intact = xsimd::max(T(1.0) - d_old, T(params.min_intact_fraction));
-    const T pressure = (in.s[0] + in.s[1] + in.s[2]) * T(-1.0 / 3.0);
-    const T p_star = simd::vselect(pressure < T(0.0), intact * pressure, pressure);
-    // -p I shifts all principal values alike, so the largest of sigma follows from that of s.
-    const T sigma_max = intact * (largest_principal(in.s) + pressure) - p_star;
-    const T eps_eff = xsimd::max(sigma_max, T(0.0)) / (intact * in.young);
+    const T eps_eff = strain(in, m, largest_principal(in.s));
     // Eq. 17; no flaw is active below the weakest threshold (BA95 Sec. 4.3), and at most the
     // n_f flaws the particle holds can be.
     const auto active = (eps_eff >= st.eps_min) && (st.eps_min > T(0.0));

@@ -262,9 +262,9 @@ TEST(GradyKipp, BatchesBelowEveryThresholdKeepTheFullPathsBits) {
     DamageState<B> a{B::load_aligned(d),  B::load_aligned(emin), B(0.0),
                      B::load_aligned(nf), B::load_aligned(mp),   B(-1.0)};
     DamageState<B> b = a;
-    (gk.may_activate(in, a) ? full : skipped) += 1;
+    (gk.may_activate(in, a, gk.matrix(in, a.damage)) ? full : skipped) += 1;
     gk.evolve(in, a);
-    gk.evolve_full(in, b);
+    gk.evolve_full(in, b, gk.matrix(in, b.damage));
     alignas(64) double da[w], db[w], na[w], nb[w];
     a.damage.store_aligned(da), b.damage.store_aligned(db);
     a.n_active.store_aligned(na), b.n_active.store_aligned(nb);
