@@ -66,6 +66,13 @@ double settle(ParticleStore& P, const MaterialModel& model, Range r,
   return stress_from_pressure(P, r, target, p_ref);
 }
 
+// Whether a body starts on its crush curve (issue 29): its material's compaction at rest gives a
+// distension above 1 at the reference density. A dense material, and a porous one given porosity
+// 0, start as before.
+bool starts_porous(const RestCompactionFn& rest, const MaterialModel& model, double e) {
+  return rest && rest(model.reference_density(), e).alpha > 1.0;
+}
+
 // The bulk density at which a porous material at rest carries bulk pressure p (energy e): the
 // root of q(rho) = p, q the pressure of its compaction model at rest (rest_compaction.hpp)
 // (increasing in rho: the matrix density alpha rho grows along both crush curves), between lo
@@ -260,8 +267,7 @@ double settle_group(ParticleStore& P, const MaterialModel& model, const RestComp
   const BodySphere b = uniform_sphere(P, r);
   const double p0 = hydrostatic_pressure(G, b.rho, b.R, 0.0);
   if (!(p0 > 0.0)) return 0.0;
-  // A porous body (alpha0 > 1) starts on its crush curve, a dense one as before (settle_column).
-  if (rest && rest(model.reference_density(), P.col(Field::energy)[r.begin]).alpha > 1.0) {
+  if (starts_porous(rest, model, P.col(Field::energy)[r.begin])) {
     return settle_porous_sphere(P, model, rest, r, G, b);
   }
   const auto x = P.col(Field::x), y = P.col(Field::y), z = P.col(Field::z);
@@ -288,9 +294,8 @@ double settle_column(ParticleStore& P, const MaterialModel& model, const RestCom
   if (!(M > 0.0 && V > 0.0) || bottom - z_lo > cell) return 0.0;
   const double rho = M / V, p_max = lithostatic_pressure(rho, g_z, top - bottom);
   if (!(p_max > 0.0)) return 0.0;
-  // A porous body (alpha0 > 1) starts on its crush curve; a dense one, and a porous material
-  // given porosity 0, as before (the density's compression p / K ~ 1e-3 needs no mass change).
-  if (rest && rest(model.reference_density(), P.col(Field::energy)[r.begin]).alpha > 1.0) {
+  // A dense body's compression p / K ~ 1e-3 needs no mass change.
+  if (starts_porous(rest, model, P.col(Field::energy)[r.begin])) {
     return settle_porous_column(P, model, rest, r, g_z, top, bottom);
   }
   std::vector<double> target(r.size());
