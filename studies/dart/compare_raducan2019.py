@@ -46,6 +46,13 @@ def read_reference(path):
             for r in rows if r["series"] == "Porosity" or float(r["friction"]) != 0.6}
 
 
+def run_and_point(spec):
+    """RUN=COHESION_PA:POROSITY_PCT:FRICTION[:...] -> RUN, the grid point's key, all the fields."""
+    run, point = spec.rsplit("=", 1)
+    fields = [float(v) for v in point.split(":")]
+    return run, tuple(fields[:3]), fields
+
+
 def read_run(run):
     with open(os.path.join(run, "timeseries.csv")) as f:
         ts = [(float(r["time_s"]), float(r["beta_launch"]), float(r["dt_s"]))
@@ -129,9 +136,7 @@ def main():
     ref = read_reference(args.reference)
     table, curves = [], []
     for spec in args.runs:
-        run, point = spec.rsplit("=", 1)
-        fields = [float(v) for v in point.split(":")]
-        key = tuple(fields[:3])
+        run, key, fields = run_and_point(spec)
         r = ref[key]
         ours, ts, launches = measures(run)
         row = {"run": os.path.basename(run.rstrip("/")), "cohesion_Pa": key[0],

@@ -46,17 +46,11 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import plot_common as pc  # noqa: E402  (tools/plot_common.py: Agg, dpi, common labels)
+from compare_raducan2019 import read_reference, run_and_point  # noqa: E402  (this folder)
 
 Q = (5e-2, 2e-2, 1e-2, 1e-3, 1e-4)
 M_ISALE = 4.0 / 3.0 * math.pi * 0.42**3 * 1000.0  # raducan2019_beta.py: a 0.42 m, delta 1000
 U_ISALE = 7000.0
-
-
-def read_reference(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
-    return {(float(r["cohesion_Pa"]), float(r["porosity_pct"]), float(r["friction"])): r
-            for r in rows if r["series"] == "Porosity" or float(r["friction"]) != 0.6}
 
 
 def read_run(run, until=None):
@@ -215,9 +209,7 @@ def main():
     ref = read_reference(a.reference)
     rows, curves = [], []
     for spec in a.runs:
-        run, point = spec.rsplit("=", 1)
-        fields = [float(v) for v in point.split(":")]
-        key = tuple(fields[:3])
+        run, key, fields = run_and_point(spec)
         row, table, drifts, fits, ts = analyse(run, key, ref[key], a)
         name = os.path.basename(run.rstrip("/"))
         row = {"run": name, "cohesion_Pa": key[0], "porosity_pct": key[1], "friction": key[2],
