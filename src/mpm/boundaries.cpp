@@ -72,7 +72,7 @@ void for_ghosts(const SparseGrid& grid, const Boundaries::Plane& pl, const Mirro
 
 }  // namespace
 
-Boundaries::Boundaries(const Domain& domain, double cell_size) : domain_(domain) {
+Boundaries::Boundaries(const Domain& domain, double cell_size) {
   for (int f = 0; f < 6; ++f) {
     const BoundaryKind kind = domain.faces[static_cast<std::size_t>(f)];
     if (kind == BoundaryKind::none) continue;
@@ -87,21 +87,15 @@ Boundaries::Boundaries(const Domain& domain, double cell_size) : domain_(domain)
           kFaceNames[f], name_of(kind), at, cell_size));
     }
     planes_[static_cast<std::size_t>(count_++)] = {axis, side, std::llround(k), kind};
+    if (kind == BoundaryKind::outflow) {
+      (side < 0 ? out_lo_ : out_hi_)[static_cast<std::size_t>(axis)] = at;
+    }
   }
 }
 
 bool Boundaries::has_outflow() const {
   for (int k = 0; k < count_; ++k) {
     if (planes_[static_cast<std::size_t>(k)].kind == BoundaryKind::outflow) return true;
-  }
-  return false;
-}
-
-bool Boundaries::outside_outflow(const Vec3& x) const {
-  for (int f = 0; f < 6; ++f) {
-    if (domain_.faces[static_cast<std::size_t>(f)] != BoundaryKind::outflow) continue;
-    const int axis = f / 2;
-    if (f % 2 == 0 ? x[axis] < domain_.lo[axis] : x[axis] > domain_.hi[axis]) return true;
   }
   return false;
 }

@@ -109,7 +109,7 @@ parallel::ExactSum DrivenBodies::set_particles(ParticleStore& P, double* dx, dou
     }
     // Out of the sum where the point leaves (the outflow stage's test: dx + x past a face).
     if (outflow != nullptr &&
-        outflow->outside_outflow(Vec3(D[0][p] + X[0][p], D[1][p] + X[1][p], D[2][p] + X[2][p]))) {
+        outflow->outside_outflow(D[0][p] + X[0][p], D[1][p] + X[1][p], D[2][p] + X[2][p])) {
       continue;
     }
     kinetic.add(0.5 * mass[p] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));

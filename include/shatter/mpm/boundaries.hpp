@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -22,7 +23,15 @@ class Boundaries {
   enum MirrorMode { kMassMomentumForce, kMomentum };
 
   bool has_outflow() const;
-  bool outside_outflow(const Vec3& x) const;
+  // Past an outflow face: below the low face's coordinate or above the high face's, on each
+  // axis with an outflow face there (the bounds of the other faces are -inf / +inf, which no
+  // coordinate passes, NaN included). Inline and without a branch per face: it runs once per
+  // point in G2P and in the outflow stage (2.0 % of the laboratory impact out of line).
+  bool outside_outflow(const Vec3& x) const { return outside_outflow(x[0], x[1], x[2]); }
+  bool outside_outflow(double x, double y, double z) const {
+    return (x < out_lo_[0]) | (x > out_hi_[0]) | (y < out_lo_[1]) | (y > out_hi_[1]) |
+           (z < out_lo_[2]) | (z > out_hi_[2]);
+  }
 
   // Symmetry planes: makes the nodal fields mirror-symmetric about each plane. Contributions that
   // particles made to nodes beyond the plane are what their mirror images would have made to the
@@ -76,7 +85,10 @@ class Boundaries {
   void mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const;
   std::array<Plane, 6> planes_{};
   int count_ = 0;
-  Domain domain_;
+  // The outflow faces' coordinates per axis; -inf / +inf where that face is not an outflow face.
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::array<double, 3> out_lo_{-kInf, -kInf, -kInf};
+  std::array<double, 3> out_hi_{kInf, kInf, kInf};
 };
 
 // The ghost walk both mirror passes share (mirror() on a SparseGrid, mirror_blocks on the halo

@@ -50,8 +50,7 @@ void g2p(State& s) {
   // same sum advance_positions makes (dx + x), so the outflow stage's decision.
   const bool outflow = s.boundaries.has_outflow();
   const auto leaves = [&](std::size_t p) {
-    return s.boundaries.outside_outflow(
-        Vec3(in.dx[p] + in.x[p], in.dy[p] + in.y[p], in.dz[p] + in.z[p]));
+    return s.boundaries.outside_outflow(in.dx[p] + in.x[p], in.dy[p] + in.y[p], in.dz[p] + in.z[p]);
   };
   const DrivenBodies* const driven = s.driven.get();
   const auto body = driven != nullptr ? P.col(IField::body) : std::span<const std::int64_t>{};

@@ -51,7 +51,7 @@ void outflow(State& s) {
   const Vec3 g = s.config.gravity;
   parallel::ExactSum carried, carried_internal;
   for (std::size_t p = 0; p < P.size(); ++p) {
-    if (!s.boundaries.outside_outflow(Vec3(x[p], y[p], z[p]))) continue;
+    if (!s.boundaries.outside_outflow(x[p], y[p], z[p])) continue;
     leaving[p] = 1;
     carried_internal.add(m[p] * e[p]);
     carried.add(0.5 * m[p] * (vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]) + m[p] * e[p] -
