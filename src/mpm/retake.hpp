@@ -36,6 +36,20 @@ constexpr FieldSet kStepLocal =
 // their buffers with the displacement scratch's (ParticleStore::swap_column), which then holds
 // x^n, and the restore exchanges them back (the journal is told of each exchange).
 constexpr FieldSet kSwappedOut = kPosition;
+// Columns the step's finite check reads (check_finite) that the retake's copy always holds (none
+// of them constant, step-local or swapped out): the copy tests them as it reads them, so that the
+// sort stage's check need not read them a second time (Journal::save_columns).
+constexpr FieldSet kCheckedByCopy = kVelocity | kStress | FieldSet{Field::rho, Field::energy};
+static_assert([] {
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    if (kCheckedByCopy.has(f) &&
+        (kStepConstant.has(f) || kStepLocal.has(f) || kSwappedOut.has(f))) {
+      return false;
+    }
+  }
+  return true;
+}());
 //
 // When: the groups, clock and accounts before the first attempt (save); the columns in the
 // first attempt, at the end of the sort stage (save_columns, called there), so the copy is in
@@ -51,8 +65,10 @@ class Journal final : public LayoutJournal {
   void save(const State& s);
   // In the first attempt, after the sort: the columns the step writes (see "When" above). The
   // first goes into `lent`'s buffer (the owner keys, dead from there to the step's end: 8 B per
-  // point less), which end_step gives back.
-  void save_columns(const ParticleStore& P, std::vector<std::uint64_t>& lent);
+  // point less), which end_step gives back. Returns false when a copied value is not finite
+  // (its exponent bits all set), tested as it is copied: the columns kCheckedByCopy are among
+  // them.
+  bool save_columns(const ParticleStore& P, std::vector<std::uint64_t>& lent);
   bool columns_due() const { return columns_due_; }
   // Before each attempt: when it may be retaken, the journal attaches to the store and records
   // the layout changes the stages make (ParticleStore tells it).

@@ -48,7 +48,11 @@ void sort(State& s) {
   s.stencil_off.resize(stored ? n : 0);
 
   compute_keys<Shape>(s);
-  check_finite(s);
+  // The retake's copy at the end of this stage reads the velocity, stress, density and energy
+  // and tests them as it copies them (Journal::save_columns): here only the other checked
+  // columns (positions and sound speed), before anything uses the positions.
+  const bool copy_checks = s.journal.columns_due();
+  check_finite(s, copy_checks ? kCheckedByCopy : FieldSet{});
 
   const unsigned every = s.config.reorder_interval;
   if (every > 0 && s.clock.step % every == 0) reorder<Shape>(s);
@@ -86,7 +90,9 @@ void sort(State& s) {
   // The step retake's copy of the columns the step writes, in the sorted order, in the first
   // attempt (retake.hpp, "When"); before any stage that writes them. The keys are dead from
   // here: their buffer holds the first copied column (State::owner_keys).
-  if (s.journal.columns_due()) s.journal.save_columns(P, s.owner_keys);
+  // A non-finite value copied: the whole check, which names the particle (the first in the
+  // sorted order) and throws if the value is one of its columns.
+  if (copy_checks && !s.journal.save_columns(P, s.owner_keys)) check_finite(s);
 }
 
 // kAxisymmetric: the y stencil is the node y = 0 alone (kernels::store_stencils), in block 0.

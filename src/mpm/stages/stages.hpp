@@ -56,8 +56,9 @@ void compute_keys(State& s);
 // these particle velocities instead of v_p (momentum only; XPIC).
 template <class Shape>
 void p2g(State& s, bool with_force, double* const* velocity = nullptr);
-// Throws NumericalError at the first particle with a non-finite checked column.
-void check_finite(const State& s);
+// Throws NumericalError at the first particle with a non-finite checked column; the columns in
+// `skip` are not read (the sort stage's retake copy checks those).
+void check_finite(const State& s, FieldSet skip = {});
 // max_p (c_p + |v_p|) of this rank's particles (Eq. 34).
 double fastest_local(const State& s);
 // dt = CFL h / max_p (c_p + |v_p|) (Eq. 34), capped at dt_max, over every rank.

@@ -2,11 +2,14 @@
 // leaves has a stable step (Eq. 34) shorter than the step taken by more than
 // SolverConfig::retake_ratio, the step is taken again with the shorter dt, so no accepted step
 // runs at an effective CFL above retake_ratio x cfl.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include "shatter/mpm/simulation.hpp"
 #include "support/lattice.hpp"
@@ -226,5 +229,39 @@ TEST(StepRetake, RetakeRestoresTheStateBitwise) {
       if (HasFatalFailure()) return;
     }
     EXPECT_EQ(engine->retakes(), retaken) << threads << " threads";
+  }
+}
+
+TEST(StepRetake, TheColumnCopyChecksWhatItCopies) {
+  // The sort stage's finite check leaves the velocity, stress, density and energy to the retake's
+  // column copy, which tests them as it copies (Journal::save_columns); without retakes the
+  // check reads them itself. Either way a non-finite value written between two steps stops the
+  // next step, naming the column and the particle (by id: the sort may re-order the store).
+  // Positions and sound speed, which the copy does not hold, are checked before the copy.
+  for (const double ratio : {2.0, 0.0}) {
+    for (const Field f : {Field::sxy, Field::vz, Field::energy, Field::y, Field::soundspeed}) {
+      ParticleStore s;
+      test::add_box(s, 0, Vector3d(0.0, 0.0, 0.0), Vector3d(0.4, 0.2, 0.2), 0.05, 1000.0,
+                    Vector3d(50.0, 0.0, 0.0));
+      SolverConfig cfg;
+      cfg.cell_size = 0.1;
+      cfg.retake_ratio = ratio;
+      Simulation sim(cfg, std::move(s), {std::make_shared<Stiffening>()}, 1);
+      sim.step();
+      sim.step();
+      const std::size_t k = sim.particles().size() / 3;
+      const std::int64_t id = sim.particles().col(IField::id)[k];
+      sim.particles().col(f)[k] = std::numeric_limits<double>::quiet_NaN();
+      std::string what;
+      try {
+        sim.step();
+      } catch (const NumericalError& e) {
+        what = e.what();
+      }
+      const std::string expected = fmt::format("non-finite {} = nan", name_of(f));
+      EXPECT_NE(what.find(expected), std::string::npos) << what << " (ratio " << ratio << ")";
+      EXPECT_NE(what.find(fmt::format("(id {})", id)), std::string::npos) << what;
+      EXPECT_NE(what.find("at step 2,"), std::string::npos) << what;
+    }
   }
 }
