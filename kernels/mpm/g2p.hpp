@@ -6,7 +6,6 @@
 
 #include <cstdint>
 #include <span>
-#include <type_traits>
 
 #include "mpm/lanes.hpp"
 #include "mpm/stencil.hpp"
@@ -105,11 +104,8 @@ struct G2PWindow : WindowGeometry {
 // `fp` the acceleration and velocity, `fv` the filtered velocity (Filtered only). The weights are
 // N = (w_x w_y) w_z as in the scalar loop, and each lane adds fma(N, u_I, sum) node by node.
 // St: a Stencil, or a StoredStencil read in place.
-// Always inlined: out of line (GCC's choice once the g2p stage's run also scatters the remap),
-// the sums go through memory at every call and G2P ran ~1.3x slower.
 template <bool Filtered, class St>
-[[gnu::always_inline]] inline void g2p_gather(const St& st, const G2PWindow& win, double (&fp)[8],
-                                              double (&fv)[4]) {
+void g2p_gather(const St& st, const G2PWindow& win, double (&fp)[8], double (&fv)[4]) {
   constexpr int W = St::W;
   Lanes<8> s8 = Lanes<8>::zero();
   Lanes<4> s4 = Lanes<4>::zero();
@@ -131,9 +127,7 @@ template <bool Filtered, class St>
 
 // Grid arrays after the grid update: acceleration in f*, velocity in p*. Particles of one owner
 // block that share one neighbour list (all of them, except where bodies meet); the window is
-// the caller's scratch. after(p, v0) runs once per particle with its velocity before the update,
-// after its new velocity is stored; or after(stencil, p, v0), which also gets the particle's
-// stencil (the fused remap scatter of the g2p stage reuses it: one row evaluation less).
+// the caller's scratch. after(p, v0) runs once per particle with its velocity before the update.
 template <class Shape, class After>
 void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
                const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
@@ -153,8 +147,7 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
     }
   };
   // The particle's update from its gathered sums s (acceleration, velocity) and t (filtered).
-  const auto update = [&](std::uint32_t p, const double(&s)[8], const double(&t)[4],
-                          const auto& stencil) {
+  const auto update = [&](std::uint32_t p, const double(&s)[8], const double(&t)[4]) {
     const double ax = s[0], ay = s[1], az = s[2], ux = s[3], uy = s[4], uz = s[5];
     const double wx = filtered ? t[0] : ux, wy = filtered ? t[1] : uy, wz = filtered ? t[2] : uz;
     const double v0[3] = {in.vx[p], in.vy[p], in.vz[p]};
@@ -181,12 +174,7 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
     in.dx[p] = in.dt_position * ux;
     in.dy[p] = in.dt_position * uy;
     in.dz[p] = in.dt_position * uz;
-    using St = std::remove_cvref_t<decltype(stencil)>;
-    if constexpr (std::is_invocable_v<After&, const St&, std::uint32_t, const double(&)[3]>) {
-      after(stencil, p, v0);
-    } else {
-      after(p, v0);
-    }
+    after(p, v0);
   };
   if constexpr (kRecomputedRows<Shape>) {
     if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP case
@@ -195,7 +183,7 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
                                           alignas(64) double s[8];
                                           alignas(32) double t[4] = {};
                                           gather(stencil, s, t);
-                                          update(p, s, t, stencil);
+                                          update(p, s, t);
                                         });
       return;
     }
@@ -204,15 +192,13 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
     alignas(64) double s[8];
     alignas(32) double t[4] = {};
     if (stored) {  // read in place (StoredStencil)
-      const StoredStencil<Shape> row(in.stencil, p);
-      gather(row, s, t);
-      update(p, s, t, row);
+      gather(StoredStencil<Shape>(in.stencil, p), s, t);
     } else {
       const double x[3] = {in.x[p], in.y[p], in.z[p]};
       st.prepare(in.stencil, p, x, in.inv_h, 0.5 * in.size0[p] * in.inv_h, owner);
       gather(st, s, t);
-      update(p, s, t, st);
     }
+    update(p, s, t);
   }
 }
 

@@ -56,9 +56,6 @@ struct Scratch {
   AlignedVector<double> flip_vx, flip_vy, flip_vz;
   AlignedVector<double> bx, by, bz;    // body force per unit mass, when the scene has one
   std::vector<double> step4_velocity;  // body-copy node velocities kept through the remap
-  // The remap's momentum sums (px, py, pz only) while G2P, fused with the remap's scatter,
-  // still reads the grid's p* (stages/g2p.cpp); exchanged with the grid's arrays after it.
-  SparseGrid::Nodes remap;
 };
 
 // XPIC (TransferKind::xpic): v^{n+1} kept aside while the grid momentum arrays hold the extra
@@ -121,9 +118,6 @@ struct State {
   // The step being taken applies the XPIC/FMPM filter (SolverConfig::filter_every); set by
   // Simulation::step from the step counter before the graph runs, the same on a retake.
   bool filtering = true;
-  // The g2p stage made the remap's scatter in this step (stages/g2p.cpp, fuses_remap): the
-  // remap stage has nothing left to scatter.
-  bool remap_fused = false;
   double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
   double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
   double empty_mass = 0.0;     // nodes lighter than this are treated as empty

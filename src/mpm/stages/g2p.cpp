@@ -37,59 +37,6 @@ kernels::G2PParticles g2p_setup(State& s) {
   return in;
 }
 
-// Whether the g2p stage makes the MUSL remap's scatter (stages/remap.cpp) in its own pass: each
-// particle's new momentum m_p v_p^{n+1/2} goes to the nodes right after its update, with the
-// stencil its gather used (uGIMP's recomputed row: 91 flops and 9 divisions per point less, and
-// one pass less over x, size0, mass and v). Where the remap does more than that scatter it is
-// left to its own stage: body copies (contact keeps their step-4 momenta), driven bodies (their
-// velocities are set after G2P), the filter passes and the filter heat (they use the momentum
-// arrays between the two), APIC (no remap) and several ranks (the halo's per-colour partials).
-template <class Shape>
-bool fuses_remap(const State& s) {
-  if constexpr (!kernels::kRecomputedRows<Shape>) {
-    return false;
-  } else {
-    const TransferPolicy& t = s.transfer;
-    return t.remap && !t.affine && !t.filter_stage() && !t.filter_heat && !s.dist() && !s.driven &&
-           !s.grid.has_copies();
-  }
-}
-
-// G2P and the remap's scatter in one pass: blocks colour by colour, as p2g does, each block's
-// particles gathered, updated and scattered into a scratch grid, which is then added to the
-// remap's node arrays (Scratch::remap; the grid's p* still holds the velocities the other
-// blocks gather). The node sums are formed in the order of the remap's own scatter (the same
-// colours, blocks, particles and flush), so they are the same bits. The remap stage then only
-// takes the arrays over (State::remap_fused). run_body(run, owner, list, window, inputs, scratch).
-template <class Shape, class RunBody>
-void fused_remap(State& s, RunBody&& run_body) {
-  SparseGrid& grid = s.grid;
-  SparseGrid::Nodes& N = grid.nodes();
-  SparseGrid::Nodes& R = s.scratch.remap;
-  for (auto* a : {&R.px, &R.py, &R.pz}) a->assign(N.px.size(), 0.0);
-  kernels::P2GParticles remap = p2g_inputs(s.particles, s.inv_h(), false);
-  remap.stencil = s.stencil_rows<Shape>();
-  for (int c = 0; c < SparseGrid::kColours; ++c) {
-    const auto blocks = grid.colour(c);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        kernels::G2PWindow win;
-                        kernels::P2GScratch scratch;
-                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                          const std::uint32_t b = blocks[k];
-                          kernels::p2g_clear<false, true>(scratch);
-                          run_body(grid.owned(b), grid.coord(b), grid.neighbours(b), win, &remap,
-                                   &scratch);
-                          kernels::p2g_flush<false, true>(scratch, grid.neighbours(b), R);
-                        }
-                      });
-  }
-  N.px.swap(R.px);
-  N.py.swap(R.py);
-  N.pz.swap(R.pz);
-  s.remap_fused = true;
-}
-
 template <class Shape>
 void g2p(State& s) {
   ParticleStore& P = s.particles;
@@ -130,41 +77,22 @@ void g2p(State& s) {
   // (8 B) for the energy stage to sum. Outflow removes none of it (its momentum is on the nodes).
   tbb::enumerable_thread_specific<parallel::ExactSum> transferred, kinetic;
   tbb::enumerable_thread_specific<std::vector<double>> run_kinetic;
-  // One run of particles: G2P, then their energies; with `remap` (fused_remap), each particle's
-  // new momentum scattered into it with the stencil the gather used.
-  const auto run_body = [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
-                            const std::uint32_t* nb, kernels::G2PWindow& win,
-                            const kernels::P2GParticles* remap, kernels::P2GScratch* scratch) {
-    parallel::ExactSum sum;
-    std::vector<double>& k = run_kinetic.local();
-    k.resize(run.size());
-    std::size_t i = 0;  // (the order of the run's points does not matter to an exact sum)
-    const auto after = [&](std::size_t p, const double(&v0)[3]) {
-      k[i++] = energies(p, v0);
-      sum.add(0.5 * mass[p] * (v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]));
-    };
-    if (remap != nullptr) {
-      kernels::g2p_block<Shape>(in, run, owner, nb, s.grid.nodes(), win,
-                                [&](const auto& st, std::uint32_t p, const double(&v0)[3]) {
-                                  after(p, v0);
-                                  kernels::p2g_lanes<false>(
-                                      st, kernels::p2g_point<false>(*remap, p), *scratch);
-                                });
-    } else {
-      kernels::g2p_block<Shape>(in, run, owner, nb, s.grid.nodes(), win, after);
-    }
-    transferred.local().add(sum);
-    parallel::ExactSum& kin = kinetic.local();
-    for (const double e : k) kin.add(e);
-  };
-  if (fuses_remap<Shape>(s)) {
-    fused_remap<Shape>(s, run_body);
-  } else {
-    for_each_run<kernels::G2PWindow>(
-        s.grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
-                    const std::uint32_t* nb,
-                    kernels::G2PWindow& win) { run_body(run, owner, nb, win, nullptr, nullptr); });
-  }
+  for_each_run<kernels::G2PWindow>(
+      s.grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
+                  const std::uint32_t* nb, kernels::G2PWindow& win) {
+        parallel::ExactSum sum;
+        std::vector<double>& k = run_kinetic.local();
+        k.resize(run.size());
+        std::size_t i = 0;  // (the order of the run's points does not matter to an exact sum)
+        kernels::g2p_block<Shape>(
+            in, run, owner, nb, s.grid.nodes(), win, [&](std::size_t p, const double(&v0)[3]) {
+              k[i++] = energies(p, v0);
+              sum.add(0.5 * mass[p] * (v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]));
+            });
+        transferred.local().add(sum);
+        parallel::ExactSum& kin = kinetic.local();
+        for (const double e : k) kin.add(e);
+      });
   s.sums.transferred = parallel::ExactSum{};
   for (const parallel::ExactSum& t : transferred) s.sums.transferred.add(t);
   s.sums.kinetic = parallel::ExactSum{};
@@ -190,8 +118,7 @@ template <class Shape>
 Stage g2p_stage(State& s) {
   return {"g2p",
           {kGeometry | FieldSet{Field::mass}, kGrid | kBlocks | kClock},
-          // kGrid: where it makes the remap's scatter (fuses_remap), the momentum arrays
-          {kVelocity, kDisplacement | kMechanical | kGrid},
+          {kVelocity, kDisplacement | kMechanical},
           [&s] { g2p<Shape>(s); }};
 }
 

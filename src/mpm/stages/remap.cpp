@@ -47,10 +47,6 @@ void put_back_copies(SparseGrid::Nodes& N, std::size_t g0, const std::vector<dou
 // here and put back by remap_velocity.
 template <class Shape>
 void remap_scatter(State& s) {
-  if (s.remap_fused) {  // G2P made the scatter (stages/g2p.cpp, fuses_remap)
-    s.remap_fused = false;
-    return;
-  }
   if (s.grid.has_copies()) keep_copies(s.grid.nodes(), copies_from(s), s.scratch.step4_velocity);
   p2g<Shape>(s, false);
 }
