@@ -118,6 +118,11 @@ struct State {
   // The step being taken applies the XPIC/FMPM filter (SolverConfig::filter_every); set by
   // Simulation::step from the step counter before the graph runs, the same on a retake.
   bool filtering = true;
+  // Some point may leave through an outflow face in this step: G2P made the outflow stage's
+  // test (x^n + dx past a face, the same sums) for every point that is not driven, and found
+  // one; or the scene has driven bodies, whose displacement is set after G2P. False: the outflow
+  // stage has nothing to remove and skips its pass over the points.
+  bool outflow_due = true;
   double dt_step = 0.0;        // dt^{n+1/2} of the step being taken
   double internal_next = 0.0;  // sum m E at t^{n+1}, reported with the next step
   double empty_mass = 0.0;     // nodes lighter than this are treated as empty

@@ -1,6 +1,8 @@
 // App. A.2 step 5: particle velocities and displacements from the grid (leapfrog), and each
 // particle's mechanical energy at t^n for the energy stage.
 
+#include <atomic>
+
 #include <tbb/enumerable_thread_specific.h>
 
 #include "mpm/loops.hpp"
@@ -62,12 +64,16 @@ void g2p(State& s) {
   // less than an exact add inside the kernel; driven points are summed by
   // DrivenBodies::set_particles with their prescribed velocity.
   const double w = in.dt_velocity > 0 ? half_dt_prev / in.dt_velocity : 0.0;
+  std::atomic<bool> leaving{false};  // a point that is not driven leaves (State::outflow_due)
   const auto energies = [&](std::size_t p, const double(&v0)[3]) {
     if (potential != nullptr) {  // else no gravity: zero (Scratch)
       potential[p] = -mass[p] * (g.x() * in.x[p] + g.y() * in.y[p] + g.z() * in.z[p]);
     }
     if (driven != nullptr && driven->prescribed(body[p], id[p])) return 0.0;
-    if (outflow && leaves(p)) return 0.0;  // booked by the outflow stage, out of this step's sums
+    if (outflow && leaves(p)) {  // booked by the outflow stage, out of this step's sums
+      leaving.store(true, std::memory_order_relaxed);
+      return 0.0;
+    }
     const double vn[3] = {v0[0] + w * (in.vx[p] - v0[0]), v0[1] + w * (in.vy[p] - v0[1]),
                           v0[2] + w * (in.vz[p] - v0[2])};
     return 0.5 * mass[p] * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
@@ -97,6 +103,7 @@ void g2p(State& s) {
   for (const parallel::ExactSum& t : transferred) s.sums.transferred.add(t);
   s.sums.kinetic = parallel::ExactSum{};
   for (const parallel::ExactSum& k : kinetic) s.sums.kinetic.add(k);
+  s.outflow_due = leaving.load(std::memory_order_relaxed) || driven != nullptr;
   if (s.driven) {
     s.sums.kinetic.add(s.driven->set_particles(P, sc.dx.data(), sc.dy.data(), sc.dz.data(),
                                                s.dt_step, outflow ? &s.boundaries : nullptr));

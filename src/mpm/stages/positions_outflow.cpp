@@ -43,6 +43,7 @@ void drop_departed(Scratch& sc, const std::vector<std::uint8_t>& leaving) {
 }
 
 void outflow(State& s) {
+  if (!s.outflow_due) return;  // G2P's test found no point past a face (State::outflow_due)
   ParticleStore& P = s.particles;
   std::vector<std::uint8_t> leaving(P.size(), 0);
   const auto x = P.col(Field::x), y = P.col(Field::y), z = P.col(Field::z);
