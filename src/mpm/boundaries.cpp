@@ -2,6 +2,7 @@
 
 #include "shatter/parallel/exact_sum.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -87,8 +88,13 @@ Boundaries::Boundaries(const Domain& domain, double cell_size) {
           kFaceNames[f], name_of(kind), at, cell_size));
     }
     planes_[static_cast<std::size_t>(count_++)] = {axis, side, std::llround(k), kind};
+    const auto a = static_cast<std::size_t>(axis);
     if (kind == BoundaryKind::outflow) {
-      (side < 0 ? out_lo_ : out_hi_)[static_cast<std::size_t>(axis)] = at;
+      (side < 0 ? out_lo_ : out_hi_)[a] = at;
+    } else if (side < 0) {  // constrain_planes acts on nodes i <= index of a low face
+      free_lo_[a] = std::max<std::int64_t>(free_lo_[a], std::llround(k) + 1);
+    } else {
+      free_hi_[a] = std::min<std::int64_t>(free_hi_[a], std::llround(k) - 1);
     }
   }
 }
@@ -100,7 +106,8 @@ bool Boundaries::has_outflow() const {
   return false;
 }
 
-void Boundaries::constrain(const std::int64_t node[3], double& x, double& y, double& z) const {
+void Boundaries::constrain_planes(const std::int64_t node[3], double& x, double& y,
+                                  double& z) const {
   double* v[3] = {&x, &y, &z};
   for (int k = 0; k < count_; ++k) {
     const Plane& pl = planes_[static_cast<std::size_t>(k)];

@@ -78,17 +78,32 @@ class Boundaries {
   // field(i, f) (64 nodes of field f: 0 mass, 1-3 momentum, 4-6 force). No body copies.
   template <class Blocks>
   void mirror_blocks(Blocks& blocks, MirrorMode mode) const;
-  // Zeroes the constrained components of (x, y, z) at global node `node` (steps 2-3).
-  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const;
+  // Zeroes the constrained components of (x, y, z) at global node `node` (steps 2-3). A node
+  // that no plane is on or beyond (all of them but the layers at the faces) returns at an
+  // inline test: the grid update calls this for every node.
+  void constrain(const std::int64_t node[3], double& x, double& y, double& z) const {
+    if ((node[0] >= free_lo_[0]) & (node[0] <= free_hi_[0]) & (node[1] >= free_lo_[1]) &
+        (node[1] <= free_hi_[1]) & (node[2] >= free_lo_[2]) & (node[2] <= free_hi_[2])) {
+      return;
+    }
+    constrain_planes(node, x, y, z);
+  }
 
  private:
   void mirror_impl(SparseGrid& grid, MirrorMode mode, bool fold) const;
+  void constrain_planes(const std::int64_t node[3], double& x, double& y, double& z) const;
   std::array<Plane, 6> planes_{};
   int count_ = 0;
   // The outflow faces' coordinates per axis; -inf / +inf where that face is not an outflow face.
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   std::array<double, 3> out_lo_{-kInf, -kInf, -kInf};
   std::array<double, 3> out_hi_{kInf, kInf, kInf};
+  // Per axis, the node indices that no constraining plane (fixed, slip, symmetry) is on or
+  // beyond: constrain() leaves those nodes as they are.
+  static constexpr std::int64_t kLowest = std::numeric_limits<std::int64_t>::min();
+  static constexpr std::int64_t kHighest = std::numeric_limits<std::int64_t>::max();
+  std::array<std::int64_t, 3> free_lo_{kLowest, kLowest, kLowest};
+  std::array<std::int64_t, 3> free_hi_{kHighest, kHighest, kHighest};
 };
 
 // The ghost walk both mirror passes share (mirror() on a SparseGrid, mirror_blocks on the halo
