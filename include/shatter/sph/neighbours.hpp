@@ -97,6 +97,10 @@ class NeighbourSearch {
     const double *x, *y, *z, *h;
   };
   void gather_chunk(std::size_t c, const Coordinates& at, std::size_t n_lists, double skin);
+  // The wide points' stencils and the pairs they list for the others (see split_).
+  std::size_t wide_candidates(std::size_t p, double hp, double skin,
+                              std::vector<std::uint32_t>& runs) const;
+  void wide_pairs(const Coordinates& at, std::size_t n, std::size_t n_lists, double skin);
 
   struct KeyIndex {
     std::uint64_t key;
@@ -109,6 +113,14 @@ class NeighbourSearch {
   std::size_t lists_ = 0;
   std::size_t listed_ = 0;  // points the lists' entries number (n of the last build or permute)
   double cell_size_ = 0.0;
+  // A build's cells have edge 2 split_ + skin (split_ <= the largest h, hmax_): a point of h <=
+  // split_ finds every neighbour of h <= split_ in the 27 cells around its own; a wide point (h
+  // > split_, few) searches the cells within h + hmax_ + skin of its own and lists, for each
+  // point of h <= split_ within reach, the pair in wide_pairs_ ((i << 32) | p, ascending), which
+  // that point's list takes. A bin's split_ is hmax_.
+  double split_ = 0.0, hmax_ = 0.0;
+  std::vector<std::uint32_t> wide_;
+  std::vector<std::uint64_t> wide_pairs_;
   // The sort buffers, in lent_ or own_ (sort_storage): (cell key, point) sorted, during a bin or
   // build; then, in the same storage, positions and h in sorted order, during a build.
   double* sort_storage(std::size_t n);
