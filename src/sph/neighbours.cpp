@@ -142,6 +142,22 @@ double split_h(const double* h, std::size_t n, double hmax) {
   return hmax > kSplitRatio * q ? q : hmax;
 }
 
+// Ascending order of a list that is mostly sorted: insertion, or std::sort once the moves
+// exceed 8 per entry. The same result either way.
+void sort_nearly_sorted(std::uint32_t* list, std::size_t m) {
+  std::size_t budget = 8 * m;
+  for (std::size_t a = 1; a < m; ++a) {
+    const std::uint32_t v = list[a];
+    std::size_t b = a;
+    for (; b > 0 && list[b - 1] > v && budget > 0; --b, --budget) list[b] = list[b - 1];
+    list[b] = v;
+    if (budget == 0) {
+      std::sort(list, list + m);
+      return;
+    }
+  }
+}
+
 }  // namespace
 
 std::size_t NeighbourSearch::bytes() const {
@@ -417,8 +433,10 @@ void NeighbourSearch::gather_chunk(std::size_t c, const Coordinates& at, std::si
     }
     // Ascending index: the canonical order, whatever the cells and skin. Points re-ordered by
     // cell meet their candidates mostly in that order already (rows in key order, points of a
-    // cell in index order), and a sorted list skips the sort.
-    if (!std::is_sorted(out, out + m)) std::sort(out, out + m);
+    // cell in index order), so an insertion sort (no partitioning: std::sort's introsort took
+    // ~1.3 % of the laboratory impact) that hands over to std::sort after 8 moves per entry,
+    // for lists far from sorted (no re-order).
+    sort_nearly_sorted(out, m);
     offsets_[i + 1] = m;
     used += m;
   }
