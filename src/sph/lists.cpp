@@ -40,13 +40,16 @@ void SphSolver::Impl::smoothing_lengths() {
 // step's dt, up to kSkinCap times that floor. With one skin for all, the fastest particles set
 // how long every list lasts: in the laboratory impact the projectile and the shocked contact
 // (~3 km/s) forced a build every 2.6 steps, a third of the run (docs/performance.md, SPH round
-// 5). A larger skin for those few particles only lengthens their lists (and the cell edge,
-// 2 max (h + s)), not everyone's. Any skin gives the same compacted lists and so the same bits.
-// sph.skin = 0 keeps no skin at all (a build every step). 16 steps and 6x: the best of a sweep
-// of the laboratory impact (42 builds in 110 steps -> 12). Returns the largest s_p.
+// 5). A larger skin for those few particles only lengthens their lists, not everyone's (the
+// search sizes its cells for all but the widest 1 %: NeighbourSearch, split_). Any skin gives
+// the same compacted lists and so the same bits. sph.skin = 0 keeps no skin at all (a build
+// every step). 16 steps and 6x were the best of a sweep of the laboratory impact when the
+// largest skin set every point's cell edge (42 builds in 110 steps -> 12); with the cells sized
+// for the many, 24 steps and 12x: 22 builds in its first 221 steps -> 13, 3 % fewer CPU
+// samples (docs/performance.md, session 22: SPH). Returns the largest s_p.
 namespace {
-constexpr double kSkinSteps = 16.0;
-constexpr double kSkinCap = 6.0;
+constexpr double kSkinSteps = 24.0;
+constexpr double kSkinCap = 12.0;
 
 // v >= 0 as the largest float not above it.
 float round_down(double v) {

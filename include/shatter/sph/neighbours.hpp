@@ -1,19 +1,21 @@
 #pragma once
 // Neighbour search for SPH with variable smoothing lengths (issue 10 item 5): sorted cell lists.
-// Points are binned into cubic cells of edge 2 max(h) (the largest support h_i + h_j) and sorted
-// by cell key (as the MPM engine sorts by grid block). Only occupied cells exist: a sorted array
-// of keys, looked up by binary search, one interval per row of three cells, so ejecta flying far
-// from the body cost nothing (a dense cell array over the bounding box would either grow with it
-// or need coarser cells). Each point gathers its neighbours from the 27 cells around its own. j is
-// a neighbour of i when j != i and |x_i - x_j| < h_i + h_j + skin (2 h_ij is the support of
-// W(r, h_ij); the skin, 0 by default, lets the lists serve several steps, Verlet lists). Each list
-// is in ascending index order: canonical, independent of the cells, the skin and the thread
-// count, so a gather over a list with a skin (whose extra entries the forces pass compacts away)
-// sums the same terms in the same order as over a fresh list without one, and the sums have the
-// same bits (a caller may re-arrange a list in place: rearrange()). Buffers are reused: a build
-// allocates only while a buffer grows past its largest size so far (the lists are gathered in one
-// pass per chunk of points into per-chunk buffers, where they stay), so a run stops allocating once
-// its neighbour counts stop growing.
+// Points are binned into cubic cells of edge 2 max(h) (the largest support h_i + h_j; in a build
+// where the largest h is over 1.2 times the 99th percentile, 2 x that percentile, and the few
+// wider points search wider stencils: split_ below) and sorted by cell key (as the MPM engine sorts
+// by grid block). Only occupied cells exist: a sorted array of keys, looked up by binary search,
+// one interval per row of three cells, so ejecta flying far from the body cost nothing (a dense
+// cell array over the bounding box would either grow with it or need coarser cells). Each point
+// gathers its neighbours from the 27 cells around its own (a wide point from more). j is a
+// neighbour of i when j != i and |x_i - x_j| < h_i + h_j + skin (2 h_ij is the support of W(r,
+// h_ij); the skin, 0 by default, lets the lists serve several steps, Verlet lists). Each list is in
+// ascending index order: canonical, independent of the cells, the skin and the thread count, so a
+// gather over a list with a skin (whose extra entries the forces pass compacts away) sums the same
+// terms in the same order as over a fresh list without one, and the sums have the same bits (a
+// caller may re-arrange a list in place: rearrange()). Buffers are reused: a build allocates only
+// while a buffer grows past its largest size so far (the lists are gathered in one pass per chunk
+// of points into per-chunk buffers, where they stay), so a run stops allocating once its neighbour
+// counts stop growing.
 
 #include <cstddef>
 #include <cstdint>
@@ -31,10 +33,11 @@ class NeighbourSearch {
   void build(const double* x, const double* y, const double* z, const double* h, std::size_t n,
              std::size_t n_lists, double skin = 0.0);
 
-  // Only the binning of a build without a skin: cells() and cell_size() as build() would give
-  // them, no new lists. For re-ordering particles by cell without building lists that the
-  // re-order makes stale. The last build's lists are kept as they were (lists(), of(), offset()
-  // still answer for them), for permute(); size() and cells() are the bin's.
+  // Only the binning of a build without a skin, always with cells of edge 2 max h: cells() and
+  // cell_size() as a build without wide points would give them, no new lists. For re-ordering
+  // particles by cell without building lists that the re-order makes stale. The last build's lists
+  // are kept as they were (lists(), of(), offset() still answer for them), for permute(); size()
+  // and cells() are the bin's.
   void bin(const double* x, const double* y, const double* z, const double* h, std::size_t n);
 
   // The last build's lists carried through a renumbering of the points (a re-order of the
@@ -78,7 +81,8 @@ class NeighbourSearch {
   // Cell of each point in the last build, numbered in key order (for re-ordering particles in
   // memory by cell).
   std::span<const std::uint32_t> cells() const { return {cell_.data(), n_}; }
-  // Cell edge used by the last build: 2 max h (doubled only for a cloud wider than 2^21 cells).
+  // Cell edge used by the last build or bin: 2 max h, or 2 split_ for a build with wide points
+  // (doubled only for a cloud wider than 2^21 cells).
   double cell_size() const { return cell_size_; }
   // Number of occupied cells in the last build.
   std::size_t cell_count() const { return cell_key_.size(); }
@@ -97,6 +101,10 @@ class NeighbourSearch {
     const double *x, *y, *z, *h;
   };
   void gather_chunk(std::size_t c, const Coordinates& at, std::size_t n_lists, double skin);
+  // The wide points' stencils and the pairs they list for the others (see split_).
+  std::size_t wide_candidates(std::size_t p, double hp, double skin,
+                              std::vector<std::uint32_t>& runs) const;
+  void wide_pairs(const Coordinates& at, std::size_t n, std::size_t n_lists, double skin);
 
   struct KeyIndex {
     std::uint64_t key;
@@ -109,6 +117,14 @@ class NeighbourSearch {
   std::size_t lists_ = 0;
   std::size_t listed_ = 0;  // points the lists' entries number (n of the last build or permute)
   double cell_size_ = 0.0;
+  // A build's cells have edge 2 split_ + skin (split_ <= the largest h, hmax_): a point of h <=
+  // split_ finds every neighbour of h <= split_ in the 27 cells around its own; a wide point (h
+  // > split_, few) searches the cells within h + hmax_ + skin of its own and lists, for each
+  // point of h <= split_ within reach, the pair in wide_pairs_ ((i << 32) | p, ascending), which
+  // that point's list takes. A bin's split_ is hmax_.
+  double split_ = 0.0, hmax_ = 0.0;
+  std::vector<std::uint32_t> wide_;
+  std::vector<std::uint64_t> wide_pairs_;
   // The sort buffers, in lent_ or own_ (sort_storage): (cell key, point) sorted, during a bin or
   // build; then, in the same storage, positions and h in sorted order, during a build.
   double* sort_storage(std::size_t n);

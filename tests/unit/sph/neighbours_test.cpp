@@ -13,6 +13,7 @@
 #include <tbb/task_arena.h>
 
 #include "shatter/sph/neighbours.hpp"
+#include "sph/gather.hpp"
 
 namespace shatter::sph {
 namespace {
@@ -97,6 +98,43 @@ TEST(NeighbourSearch, ClusteredPointsFarApartMatchBruteForce) {
   expect_matches_brute_force(c, s);
   EXPECT_EQ(s.cell_size(), 2.0 * *std::max_element(c.h.begin(), c.h.end()));  // not coarsened
   EXPECT_LT(s.cell_count(), c.size());
+}
+
+TEST(NeighbourSearch, AFewWidePointsAreFoundFromBothSides) {
+  // Most points of h in [0.02, 0.025], 40 "wide" ones of h up to 6 times that (as the SPH
+  // solver's fast particles with large Verlet skins): the cells are sized for the many (edge
+  // below 2 max h + skin), the wide points search wider stencils and list themselves for the
+  // others, among them points without a list of their own (the last 600, as mirror images).
+  // Every list against brute force with the skin, on 1 and 2 threads.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0), hu(0.02, 0.025), wide(0.05, 0.15);
+  Cloud c;
+  for (int k = 0; k < 4000; ++k) c.add(u(rng), u(rng), u(rng), k % 100 == 7 ? wide(rng) : hu(rng));
+  constexpr std::size_t kLists = 3400;
+  constexpr double kSkin = 0.004;
+  NeighbourSearch one, two;
+  tbb::task_arena(1).execute(
+      [&] { one.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size(), kLists, kSkin); });
+  tbb::task_arena(2).execute(
+      [&] { two.build(c.x.data(), c.y.data(), c.z.data(), c.h.data(), c.size(), kLists, kSkin); });
+  const double hmax = *std::max_element(c.h.begin(), c.h.end());
+  EXPECT_LT(one.cell_size(), 0.5 * (2.0 * hmax + kSkin));  // the wide points did not size the cells
+  std::size_t wide_pairs = 0;
+  for (std::size_t i = 0; i < kLists; ++i) {
+    std::vector<std::uint32_t> want;
+    for (std::size_t j = 0; j < c.size(); ++j) {
+      const double dx = c.x[i] - c.x[j], dy = c.y[i] - c.y[j], dz = c.z[i] - c.z[j];
+      const double reach = c.h[i] + c.h[j] + kSkin;
+      if (j != i && kernels::sph::distance2(dx, dy, dz) < reach * reach) {  // the search's test
+        want.push_back(static_cast<std::uint32_t>(j));
+        wide_pairs += c.h[i] <= 0.025 && c.h[j] > 0.025 ? 1 : 0;
+      }
+    }
+    const auto a = one.of(i), b = two.of(i);
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), want.begin(), want.end())) << "point " << i;
+    ASSERT_TRUE(std::equal(b.begin(), b.end(), want.begin(), want.end())) << "point " << i;
+  }
+  EXPECT_GT(wide_pairs, 100u);
 }
 
 TEST(NeighbourSearch, ListsAreIdenticalForOneAndTwoThreadsAndRebuildsReuseMemory) {
