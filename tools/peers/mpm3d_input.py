@@ -60,6 +60,15 @@ def note(msg):
     print("mpm3d_input: " + msg, file=sys.stderr)
 
 
+def read_snapshot(path):
+    """Positions, velocities, masses, densities, body indices, body names and time of a snapshot."""
+    with h5py.File(path, "r") as f:
+        pts = f["particles"]
+        cols = [pts[c][...] for c in ("position", "velocity", "mass", "rho", "body")]
+        names = [n.decode() for n in f["names/body"][...]]
+        return (*cols, names, float(f.attrs["time"]))
+
+
 def material_table(scene, materials, body):
     spec = scene["body"][body]["material"]
     if isinstance(spec, str):
@@ -122,15 +131,7 @@ def main():
         note(f"shatter shape {solver.get('shape')!r}: MPM3D-F90 gets gimp (uGIMP) anyway")
     h = float(solver["cell_size"])
 
-    with h5py.File(a.snapshot, "r") as f:
-        pts = f["particles"]
-        x = pts["position"][...]
-        v = pts["velocity"][...]
-        mass = pts["mass"][...]
-        rho = pts["rho"][...]
-        body = pts["body"][...]
-        body_names = [n.decode() for n in f["names/body"][...]]
-        time = float(f.attrs["time"])
+    x, v, mass, rho, body, body_names, time = read_snapshot(a.snapshot)
     n = len(mass)
     if time != 0.0:
         note(f"snapshot time {time:g} s is not 0: its state (stress, energy) is not carried over")

@@ -4,7 +4,8 @@
 OpenSPH (github.com/pavelsevecek/OpenSPH, Sevecek et al.) is the SPH peer of issue 35. This script reads
 one shatter snapshot (positions, velocities, masses, densities and body index of every point) and the
 run's resolved scene.toml plus the material catalogue, and writes a plain-text file that the driver
-opensph_labimpact.cpp (built against OpenSPH's core library, not part of shatter's build) reads. It is
+opensph_labimpact.cpp (built against OpenSPH's core library by tools/peers/opensph/CMakeLists.txt,
+not part of shatter's build) reads. It is
 for the peer speed comparison of docs/performance.md ("Peers (session 22)"); the peer's code, its build
 and the input files are not kept in this repository.
 
@@ -32,9 +33,10 @@ What is matched and what is only the nearest OpenSPH offers (the choices; each i
     derives Young's modulus for the flaw thresholds from its bulk modulus (= Tillotson A) and G.
   * artificial viscosity: OpenSPH's standard (Monaghan) viscosity with shatter's solver.sph alpha and
     beta (default 1 and 2; OpenSPH's own defaults are 1.5 and 3).
-  * integrator and time step: chosen in the driver (--integrator leapfrog: kick-drift-kick with one
-    derivative evaluation per step, as shatter; --criterion all: OpenSPH's default Courant number
-    0.2 with cs and its derivative and acceleration criteria). dt_initial and dt_max are written here.
+  * integrator and time step: chosen in the driver (--integrator leapfrog: OpenSPH's drift-kick-drift
+    with one derivative evaluation per step, rates at the midpoint configuration, as shatter's
+    staggered leapfrog; --criterion collision: the Courant (number 0.2, dt = 0.2 h / c) and
+    divergence criteria of OpenSPH's own collision presets). dt_initial and dt_max are written here.
   * domain faces: shatter's outflow box has no OpenSPH counterpart here: none (vacuum); no point
     leaves the box in the compared time.
 
@@ -48,10 +50,9 @@ import math
 import sys
 import tomllib
 
-import h5py
 import numpy as np
 
-from mpm3d_input import material_table
+from mpm3d_input import material_table, read_snapshot
 
 
 def note(msg):
@@ -122,15 +123,7 @@ def main():
     if solver.get("symmetry_plane", "none") not in ("none", "z"):
         raise SystemExit("only a z symmetry plane is mapped")
 
-    with h5py.File(args.snapshot, "r") as f:
-        pts = f["particles"]
-        x = pts["position"][...]
-        v = pts["velocity"][...]
-        m = pts["mass"][...]
-        rho = pts["rho"][...]
-        body = pts["body"][...]
-        names = [n.decode() for n in f["names/body"][...]]
-        time = float(f.attrs["time"])
+    x, v, m, rho, body, names, time = read_snapshot(args.snapshot)
     if time != 0.0:
         note(f"warning: snapshot time {time} s, not 0")
 

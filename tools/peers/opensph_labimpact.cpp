@@ -1,11 +1,11 @@
 // Command-line driver that runs OpenSPH (github.com/pavelsevecek/OpenSPH) on the particles written
 // by tools/peers/opensph_input.py, for the SPH peer comparison of docs/performance.md ("Peers
 // (session 22)"). It is not part of shatter's build: it compiles against OpenSPH's core library
-// (see the header of opensph_input.py for the build). It prints the step count, the loop's CPU and
+// (build: tools/peers/opensph/CMakeLists.txt). It prints the step count, the loop's CPU and
 // wall time and the energies.
 //
-// Usage: osph-labimpact INPUT.osph [--threads N] [--integrator leapfrog|pc] [--criterion
-// all|courant]
+// Usage: osph-labimpact INPUT.osph [--threads N] [--integrator leapfrog|pc]
+//        [--criterion collision|all|courant]
 //        [--courant C] [--report-every T]
 #include "Sph.h"
 
