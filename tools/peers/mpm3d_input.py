@@ -60,6 +60,15 @@ def note(msg):
     print("mpm3d_input: " + msg, file=sys.stderr)
 
 
+def read_tomls(*paths):
+    """The parsed TOML files (a scene, the material catalogue)."""
+    out = []
+    for path in paths:
+        with open(path, "rb") as f:
+            out.append(tomllib.load(f))
+    return out
+
+
 def read_snapshot(path):
     """Positions, velocities, masses, densities, body indices, body names and time of a snapshot."""
     with h5py.File(path, "r") as f:
@@ -120,10 +129,7 @@ def main():
     ap.add_argument("-o", "--output", required=True, help="the .mpm file to write")
     a = ap.parse_args()
 
-    with open(a.scene, "rb") as f:
-        scene = tomllib.load(f)
-    with open(a.materials, "rb") as f:
-        materials = tomllib.load(f)
+    scene, materials = read_tomls(a.scene, a.materials)
     solver = scene["solver"]
     if solver.get("method", "mpm") != "mpm":
         raise SystemExit("an MPM scene is needed")

@@ -48,11 +48,10 @@ Usage (the snapshot of step 0 of a run, e.g. shatter run SCENE --set solver.end_
 import argparse
 import math
 import sys
-import tomllib
 
 import numpy as np
 
-from mpm3d_input import material_table, read_snapshot
+from mpm3d_input import material_table, read_snapshot, read_tomls
 
 
 def note(msg):
@@ -108,10 +107,7 @@ def main():
     ap.add_argument("-o", "--output", required=True)
     args = ap.parse_args()
 
-    with open(args.scene, "rb") as f:
-        scene = tomllib.load(f)
-    with open(args.materials, "rb") as f:
-        materials = tomllib.load(f)
+    scene, materials = read_tomls(args.scene, args.materials)
     solver = scene["solver"]
     sph = solver.get("sph", {})
     h_factor = sph.get("h_factor", 1.2)
