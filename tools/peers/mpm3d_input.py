@@ -60,6 +60,24 @@ def note(msg):
     print("mpm3d_input: " + msg, file=sys.stderr)
 
 
+def read_tomls(*paths):
+    """The parsed TOML files (a scene, the material catalogue)."""
+    out = []
+    for path in paths:
+        with open(path, "rb") as f:
+            out.append(tomllib.load(f))
+    return out
+
+
+def read_snapshot(path):
+    """Positions, velocities, masses, densities, body indices, body names and time of a snapshot."""
+    with h5py.File(path, "r") as f:
+        pts = f["particles"]
+        cols = [pts[c][...] for c in ("position", "velocity", "mass", "rho", "body")]
+        names = [n.decode() for n in f["names/body"][...]]
+        return (*cols, names, float(f.attrs["time"]))
+
+
 def material_table(scene, materials, body):
     spec = scene["body"][body]["material"]
     if isinstance(spec, str):
@@ -111,10 +129,7 @@ def main():
     ap.add_argument("-o", "--output", required=True, help="the .mpm file to write")
     a = ap.parse_args()
 
-    with open(a.scene, "rb") as f:
-        scene = tomllib.load(f)
-    with open(a.materials, "rb") as f:
-        materials = tomllib.load(f)
+    scene, materials = read_tomls(a.scene, a.materials)
     solver = scene["solver"]
     if solver.get("method", "mpm") != "mpm":
         raise SystemExit("an MPM scene is needed")
@@ -122,15 +137,7 @@ def main():
         note(f"shatter shape {solver.get('shape')!r}: MPM3D-F90 gets gimp (uGIMP) anyway")
     h = float(solver["cell_size"])
 
-    with h5py.File(a.snapshot, "r") as f:
-        pts = f["particles"]
-        x = pts["position"][...]
-        v = pts["velocity"][...]
-        mass = pts["mass"][...]
-        rho = pts["rho"][...]
-        body = pts["body"][...]
-        body_names = [n.decode() for n in f["names/body"][...]]
-        time = float(f.attrs["time"])
+    x, v, mass, rho, body, body_names, time = read_snapshot(a.snapshot)
     n = len(mass)
     if time != 0.0:
         note(f"snapshot time {time:g} s is not 0: its state (stress, energy) is not carried over")
