@@ -92,17 +92,25 @@ struct GradyKipp {
     return simd::any((eps_hi >= st.eps_min) && (st.eps_min > T(0.0)));
   }
 
-  // Eqs. 17-19 and BA95 Eq. 22 in every lane; m = matrix(in, st.damage).
-  template <class T>
+  // Eqs. 17-19 and BA95 Eq. 22 in every lane; m = matrix(in, st.damage). kAllWork = true
+  // evaluates every term in every batch (the reference of the tests; the same bits).
+  template <class T, bool kAllWork = false>
   T evolve_full(const DamageInput<T>& in, DamageState<T>& st, const Matrix<T>& m) const {
     const T d_old = st.damage;
-    const T eps_eff = strain(in, m, largest_principal(in.s));
+    const T eps_eff = strain(in, m, principal_values<T, kAllWork>(in.s).s1);
     // Eq. 17; no flaw is active below the weakest threshold (BA95 Sec. 4.3), and at most the
     // n_f flaws the particle holds can be.
     const auto active = (eps_eff >= st.eps_min) && (st.eps_min > T(0.0));
     const T ratio = xsimd::max(eps_eff / simd::vselect(active, st.eps_min, T(1.0)), T(1.0));
     const T n_weibull = xsimd::exp(st.weibull_m * lanes::log(ratio));
     const T n_act = simd::vselect(active, xsimd::min(n_weibull, st.n_flaws), T(0.0));
+    st.n_active = n_act;
+    if (!kAllWork && !simd::any(!(d_old >= 1.0))) {
+      // Every lane fully damaged: d_new = max(d_old, min(..., 1)) below is d_old whatever the
+      // increment (min returns its second operand, 1, for a NaN first one), so the three cbrt
+      // and the division are not evaluated. Same bits.
+      return d_old;
+    }
     // Eq. 19 integrated over dt in D^(1/3).
     const T radius =
         params.rs > 0.0 ? T(params.rs) : lanes::cbrt(in.volume * (3.0 / (4.0 * std::numbers::pi)));
@@ -111,7 +119,6 @@ struct GradyKipp {
     // BA95 Eq. 22 caps D by the fraction of active flaws; damage never heals.
     const T cap = lanes::cbrt(n_act / xsimd::max(st.n_flaws, T(1.0)));
     const T d_new = xsimd::max(d_old, xsimd::min(xsimd::min(root * root * root, cap), T(1.0)));
-    st.n_active = n_act;
     st.damage = d_new;
     return d_new;
   }

@@ -49,17 +49,45 @@ inline void jacobi_rotate(T& app, T& aqq, T& apq, T& apr, T& aqr) {
   aqr = s * pr + c * aqr;
 }
 
+// Whether every remaining sweep would leave the diagonal unchanged, bit for bit, in every lane.
+// A rotation moves a_pp and a_qq by t a_pq with |t| <= |a_pq| / |d| (denom >= 2 |d| above), so
+// by at most F^2 / |d|, F^2 = a01^2 + a02^2 + a12^2 (a rotation keeps the sum of the squares of
+// the off-diagonal entries it turns and zeroes a_pq, so no later a_pq exceeds F up to a few
+// ulps). Below a quarter of the spacing of the doubles around a diagonal entry a (>= |a| 2^-55)
+// a - t a_pq rounds back to a; with F^2 < 2^-57 min|d| min|a| that holds for every pair of
+// every later sweep, with a margin of 4 for the roundings of t, the products and this test.
+// The diagonal entries and their differences are bounded below (1e-100, far below any stress)
+// so that no product here underflows. A NaN lane never passes. Then the diagonal after all
+// four sweeps is the one now: skipping them changes no bit of the principal values.
+template <class T>
+inline bool diagonal_settled(const T& a00, const T& a11, const T& a22, const T& a01, const T& a02,
+                             const T& a12) {
+  const T f2 = a01 * a01 + a02 * a02 + a12 * a12;
+  const T a_min = xsimd::min(xsimd::abs(a00), xsimd::min(xsimd::abs(a11), xsimd::abs(a22)));
+  const T d_min =
+      xsimd::min(xsimd::abs(a11 - a00), xsimd::min(xsimd::abs(a22 - a00), xsimd::abs(a22 - a11)));
+  const auto settled =
+      (f2 < T(0x1p-57) * d_min * a_min) && (a_min > T(1e-100)) && (d_min > T(1e-100));
+  return !simd::any(!settled);
+}
+
 }  // namespace detail
 
-// s in Voigt order xx, yy, zz, xy, yz, xz.
-template <class T>
-inline PrincipalValues<T> principal_values(const T (&s)[6]) {
+// s in Voigt order xx, yy, zz, xy, yz, xz. After the first sweep, the sweeps stop once no
+// later one can change the diagonal (detail::diagonal_settled): the same bits as four sweeps
+// (kAllSweeps = true runs all four, the reference the tests compare with). sweeps, if given,
+// receives the number of sweeps made.
+template <class T, bool kAllSweeps = false>
+inline PrincipalValues<T> principal_values(const T (&s)[6], int* sweeps = nullptr) {
   T a00 = s[0], a11 = s[1], a22 = s[2], a01 = s[3], a12 = s[4], a02 = s[5];
-  for (int sweep = 0; sweep < 4; ++sweep) {
+  int sweep = 0;
+  for (; sweep < 4; ++sweep) {
+    if (!kAllSweeps && sweep >= 1 && detail::diagonal_settled(a00, a11, a22, a01, a02, a12)) break;
     detail::jacobi_rotate(a00, a11, a01, a02, a12);  // (0,1), third index 2
     detail::jacobi_rotate(a00, a22, a02, a01, a12);  // (0,2), third index 1
     detail::jacobi_rotate(a11, a22, a12, a01, a02);  // (1,2), third index 0
   }
+  if (sweeps != nullptr) *sweeps = sweep;
   const T hi = xsimd::max(a00, xsimd::max(a11, a22));
   const T lo = xsimd::min(a00, xsimd::min(a11, a22));
   const T mid = xsimd::max(xsimd::min(a00, a11), xsimd::min(xsimd::max(a00, a11), a22));

@@ -1,8 +1,8 @@
 #pragma once
 // Tillotson equation of state with cold expansion, mixing region and low-energy vapour expansion
 // (MPM paper Sec. 3.2, Eqs. 8-12; Brundage 2013). Header-only kernel: T is double or
-// xsimd::batch<double>; all four branches are evaluated and the region chosen with select, so the
-// SIMD lanes never diverge.
+// xsimd::batch<double>; the branches are evaluated and the region chosen with select, so the
+// SIMD lanes never diverge (the hot and mixing branches only in a batch with a lane there).
 
 #include <cstdint>
 
@@ -68,7 +68,8 @@ class Tillotson {
   // Eq. 11 at rho_iv (E = 0), so p stays continuous there, and falls linearly to 0 at rho = 0.
   double pressure_floor(double rho) const { return floor_slope_ * rho; }
 
-  template <class T>
+  // kAllBranches = true evaluates Eqs. 9-10 in every batch (the reference of the tests).
+  template <class T, bool kAllBranches = false>
   EosPoint<T> evaluate(const T& rho_in, const T& E_in) const {
     using simd::vexp;
     using simd::vmax;
@@ -81,7 +82,6 @@ class Tillotson {
 
     const T eta = rho / rho0;
     const T mu = eta - 1.0;
-    const T nu = rho0 / rho - 1.0;
     const T omega = E / (q_.E0 * eta * eta) + 1.0;
     const T b_om = q_.b / omega;
     // d(b/omega)-type term: omega - 1 = E rho0^2 / (E0 rho^2), so both partials of
@@ -93,48 +93,58 @@ class Tillotson {
     const T p1 = gam * rho * E + q_.A * mu + q_.B * mu * mu;
     const T p1_r = gam * E + 2.0 * E * b_om2 + (q_.A + 2.0 * q_.B * mu) / rho0;
     const T p1_e = gam * rho - rho * b_om2;
+    const Branch<T> cold_branch{p1, p1_r, p1_e};
 
     // Eq. 11 (low-energy vapour expansion) is Eq. 8 without B mu^2.
     const T p4 = p1 - q_.B * mu * mu;
     const T p4_r = p1_r - 2.0 * q_.B * mu / rho0;
     const T p4_e = p1_e;
 
-    // Eq. 9 (hot expanded): p = a rho E + [b rho E / omega + A mu e^{-beta nu}] e^{-alpha nu^2}.
-    const T ea = vexp(-q_.alpha * nu * nu);
-    const T eb = vexp(-q_.beta * nu);
-    const T x = b_om * rho * E;
-    const T x_r = E * b_om + 2.0 * E * b_om2;
-    const T x_e = rho * b_om - rho * b_om2;
-    const T y = q_.A * mu * eb;
-    const T drho_nu = rho0 / (rho * rho);  // -d(nu)/d(rho)
-    const T y_r = q_.A * eb * (1.0 / rho0 + mu * q_.beta * drho_nu);
-    const T p2 = q_.a * rho * E + (x + y) * ea;
-    const T p2_r = q_.a * E + (x_r + y_r) * ea + (x + y) * ea * (2.0 * q_.alpha * nu * drho_nu);
-    const T p2_e = q_.a * rho + x_e * ea;
-
-    // Eq. 10 (mixing): linear in E between the Eq. 8 and Eq. 9 surfaces.
-    const double dE = q_.Ecv - q_.Eiv;
-    const T wh = (E - q_.Eiv) / dE;  // weight of the hot branch
-    const T wc = (q_.Ecv - E) / dE;
-    const T p3 = p2 * wh + p1 * wc;
-    const T p3_r = p2_r * wh + p1_r * wc;
-    const T p3_e = p2_e * wh + p1_e * wc + (p2 - p1) / dE;
-
     const auto compressed = rho >= rho0;
     const auto hot = E >= q_.Ecv;
     const auto vapour = rho < q_.rho_iv;
     const auto cold = E <= q_.Eiv;
 
+    // Eqs. 9 and 10 (two exp and seven divisions) only where a lane of the batch is in the hot
+    // or the mixing region; elsewhere no lane selects them below, and every lane keeps the bits
+    // it would have with them (the branches are selected lane by lane, never mixed).
+    Branch<T> hot_branch = cold_branch, mixed_branch = cold_branch;
+    if (kAllBranches || simd::any(!compressed && (hot || !(vapour || cold)))) {
+      const T nu = rho0 / rho - 1.0;
+      // Eq. 9 (hot expanded): p = a rho E + [b rho E / omega + A mu e^{-beta nu}] e^{-alpha nu^2}.
+      const T ea = vexp(-q_.alpha * nu * nu);
+      const T eb = vexp(-q_.beta * nu);
+      const T x = b_om * rho * E;
+      const T x_r = E * b_om + 2.0 * E * b_om2;
+      const T x_e = rho * b_om - rho * b_om2;
+      const T y = q_.A * mu * eb;
+      const T drho_nu = rho0 / (rho * rho);  // -d(nu)/d(rho)
+      const T y_r = q_.A * eb * (1.0 / rho0 + mu * q_.beta * drho_nu);
+      const T p2 = q_.a * rho * E + (x + y) * ea;
+      const T p2_r = q_.a * E + (x_r + y_r) * ea + (x + y) * ea * (2.0 * q_.alpha * nu * drho_nu);
+      const T p2_e = q_.a * rho + x_e * ea;
+
+      // Eq. 10 (mixing): linear in E between the Eq. 8 and Eq. 9 surfaces.
+      const double dE = q_.Ecv - q_.Eiv;
+      const T wh = (E - q_.Eiv) / dE;  // weight of the hot branch
+      const T wc = (q_.Ecv - E) / dE;
+      const T p3 = p2 * wh + p1 * wc;
+      const T p3_r = p2_r * wh + p1_r * wc;
+      const T p3_e = p2_e * wh + p1_e * wc + (p2 - p1) / dE;
+      hot_branch = {p2, p2_r, p2_e};
+      mixed_branch = {p3, p3_r, p3_e};
+    }
+
     // Expanded, rho >= rho_iv: cold (Eq. 8), mixed (Eq. 10).
-    Branch<T> out = pick(cold, Branch<T>{p1, p1_r, p1_e}, Branch<T>{p3, p3_r, p3_e});
+    Branch<T> out = pick(cold, cold_branch, mixed_branch);
     // Expanded below rho_iv: Eq. 11 with the documented floor.
     const T floor = floor_slope_ * rho;
     const Branch<T> vapour_branch =
         pick(p4 < floor, Branch<T>{floor, T(floor_slope_), T(0.0)}, Branch<T>{p4, p4_r, p4_e});
     out = pick(vapour, vapour_branch, out);
     // Hot expanded (Eq. 9) overrides both, then compression (Eq. 8) overrides everything.
-    out = pick(hot, Branch<T>{p2, p2_r, p2_e}, out);
-    out = pick(compressed, Branch<T>{p1, p1_r, p1_e}, out);
+    out = pick(hot, hot_branch, out);
+    out = pick(compressed, cold_branch, out);
 
     return {out.p, vmax(isentropic_c2(rho, out.p, out.p_r, out.p_e), T(c2_floor_))};
   }

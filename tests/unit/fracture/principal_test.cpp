@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include <Eigen/Eigenvalues>
@@ -91,6 +93,63 @@ TEST(PrincipalValues, SimdLanesEqualScalarPath) {
       EXPECT_NEAR(s3[l], ref.s3, tol);
     }
   }
+}
+
+TEST(PrincipalValues, SettledSweepsKeepTheFourSweepsBits) {
+  // principal_values stops sweeping once no later sweep can change the diagonal
+  // (detail::diagonal_settled); it must give the bits of the four sweeps (kAllSweeps) in every
+  // lane. Tensors: the samples above, and random ones from nearly diagonal (off-diagonal terms
+  // 1e-14-1 of the diagonal), r-z-like (a_xz = a_yz = 0), near double roots and a pressure shift,
+  // so that batches stop after 1, 2 or 3 sweeps or run all four. Bound: bitwise equality of
+  // s1, s2, s3, batch and scalar path; the counts show each exit was taken.
+  using B = test::Batch;
+  constexpr std::size_t w = B::size;
+  auto all = samples();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 16000; ++i) {
+    const int kind = (i / 8) % 4;  // one kind per batch of 8
+    const double scale = std::pow(10.0, 3.0 + 3.5 * (u(rng) + 1.0));
+    const double off = kind == 0 ? 1.0 : std::pow(10.0, -7.0 * (u(rng) + 1.0));
+    std::array<double, 6> s{};
+    for (int k = 0; k < 3; ++k) s[static_cast<std::size_t>(k)] = scale * u(rng);
+    for (int k = 3; k < 6; ++k) s[static_cast<std::size_t>(k)] = off * scale * u(rng);
+    if (kind == 2) s[4] = s[5] = 0.0;
+    if (kind == 3) s[1] = s[0] * (1.0 + 1e-9 * u(rng));
+    const double p = (i % 3 == 0) ? 0.0 : scale * u(rng);
+    for (int k = 0; k < 3; ++k) s[static_cast<std::size_t>(k)] -= p;
+    all.push_back(s);
+  }
+  int exits[5] = {};
+  for (std::size_t base = 0; base + w <= all.size(); base += w) {
+    alignas(64) double in[6][w];
+    for (std::size_t l = 0; l < w; ++l)
+      for (int c = 0; c < 6; ++c) in[c][l] = all[base + l][static_cast<std::size_t>(c)];
+    B s[6];
+    for (int c = 0; c < 6; ++c) s[c] = B::load_aligned(in[c]);
+    int sweeps = -1;
+    const auto a = damage::principal_values(s, &sweeps);
+    const auto b = damage::principal_values<B, true>(s);
+    ++exits[sweeps];
+    alignas(64) double va[3][w], vb[3][w];
+    a.s1.store_aligned(va[0]), a.s2.store_aligned(va[1]), a.s3.store_aligned(va[2]);
+    b.s1.store_aligned(vb[0]), b.s2.store_aligned(vb[1]), b.s3.store_aligned(vb[2]);
+    for (std::size_t l = 0; l < w; ++l) {
+      const double sc[6] = {in[0][l], in[1][l], in[2][l], in[3][l], in[4][l], in[5][l]};
+      const auto ca = damage::principal_values(sc);
+      const auto cb = damage::principal_values<double, true>(sc);
+      const double sa[3] = {ca.s1, ca.s2, ca.s3}, sb[3] = {cb.s1, cb.s2, cb.s3};
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(va[k][l]), std::bit_cast<std::uint64_t>(vb[k][l]))
+            << "batch at " << base << " lane " << l << " value " << k;
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(sa[k]), std::bit_cast<std::uint64_t>(sb[k]))
+            << "sample " << base + l << " value " << k;
+      }
+    }
+  }
+  EXPECT_GT(exits[1] + exits[2], 100);
+  EXPECT_GT(exits[3], 100);
+  EXPECT_GT(exits[4], 100);
 }
 
 }  // namespace

@@ -10,7 +10,9 @@
 #endif
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <random>
 #include <string>
@@ -322,6 +324,99 @@ TEST(SimdEqualsScalar, ComposedKernelWithDamageInEachCoupling) {
             strength::Lundborg{kEl, 90e6, 1.5, 0.8, 1500e6, 3.4e6}, brittle, c),
         2703.0, 1e6, 1e8);
   }
+}
+
+// The per-batch skips of the kernels (a batch computes only what one of its lanes needs) must
+// give every lane the bits of the path that does all the work. This file is compiled as the
+// library is (no FMA contraction, tests/CMakeLists.txt), so both paths round alike here too.
+TEST(BatchSkips, TillotsonWithoutHotLanesKeepsTheAllBranchesBits) {
+  // evaluate() computes Eqs. 9-10 (two exp) only in a batch with a lane in the hot or mixing
+  // region. Batches drawn from the compressed, cold expanded and vapour regions only (skipped)
+  // and from all five (computed; with a forced skip their hot and mixed lanes would take
+  // Eq. 8's value). Bound: bitwise equality of p and c^2 against kAllBranches, batch and scalar
+  // path; the counts show both kinds of batch.
+  const eos::Tillotson eos(test::basalt_tillotson());
+  const auto& q = eos.params();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int cold_only = 0, with_hot = 0;
+  for (int rep = 0; rep < 4000; ++rep) {
+    const bool cold = rep % 2 == 0;
+    alignas(64) double rho[W], e[W];
+    for (std::size_t l = 0; l < W; ++l) {
+      rho[l] = q.rho0 * (0.3 + 1.0 * u(rng));
+      e[l] = cold ? (rho[l] >= q.rho0 ? 3.0 : 1.0) * q.Eiv * u(rng) : 1.5 * q.Ecv * u(rng);
+    }
+    const auto a = eos.evaluate(Batch::load_aligned(rho), Batch::load_aligned(e));
+    const auto b = eos.evaluate<Batch, true>(Batch::load_aligned(rho), Batch::load_aligned(e));
+    alignas(64) double pa[W], pb[W], ca[W], cb[W];
+    a.p.store_aligned(pa), b.p.store_aligned(pb), a.c2.store_aligned(ca), b.c2.store_aligned(cb);
+    bool hot = false;
+    for (std::size_t l = 0; l < W; ++l) {
+      const auto r = eos.region(rho[l], e[l]);
+      hot = hot || r == eos::TillotsonRegion::hot_expanded || r == eos::TillotsonRegion::mixed;
+      const auto sa = eos.evaluate(rho[l], e[l]);
+      const auto sb = eos.evaluate<double, true>(rho[l], e[l]);
+      for (const double x : {pb[l], sa.p, sb.p})
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(pa[l]), std::bit_cast<std::uint64_t>(x))
+            << "batch " << rep << " lane " << l;
+      for (const double x : {cb[l], sa.c2, sb.c2})
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(ca[l]), std::bit_cast<std::uint64_t>(x))
+            << "batch " << rep << " lane " << l;
+    }
+    (hot ? with_hot : cold_only) += 1;
+  }
+  EXPECT_GT(cold_only, 1000);
+  EXPECT_GT(with_hot, 1000);
+}
+
+TEST(BatchSkips, J2ReturnOfElasticBatchesKeepsTheReturnsBits) {
+  // return_map skips the return in a batch where no lane yields: deviator, plastic strain, its
+  // increment and the heat must be those of the return made in every batch (kAllWork).
+  // Deviators of 0.1-1.2 times the hardened yield stress, half the batches all below it.
+  // Bound: bitwise equality; the counts show both kinds of batch.
+  const strength::J2Plasticity j2{strength::ElasticConstants::from_young_poisson(53.1e9, 0.15),
+                                  100e6, 5e9};
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int elastic = 0, yielding = 0;
+  for (int rep = 0; rep < 4000; ++rep) {
+    const double top = rep % 2 == 0 ? 0.95 : 1.2;
+    alignas(64) double s[6][W], ep[W], heat[W];
+    for (std::size_t l = 0; l < W; ++l) {
+      ep[l] = rep % 3 == 0 ? 0.0 : 0.01 * (u(rng) + 1.0);
+      heat[l] = 1e3 * (u(rng) + 1.0);
+      double d[6];
+      for (double& x : d) x = u(rng);
+      const double m = (d[0] + d[1] + d[2]) / 3.0;
+      for (int k = 0; k < 3; ++k) d[k] -= m;
+      const double sbar = std::sqrt(3.0 * strength::j2(d));
+      const double target = j2.yield_stress(ep[l]) * (0.1 + (top - 0.1) * 0.5 * (u(rng) + 1.0));
+      for (int k = 0; k < 6; ++k) s[k][l] = d[k] * target / sbar;
+    }
+    Batch sa[6], sb[6];
+    for (int k = 0; k < 6; ++k) sa[k] = sb[k] = Batch::load_aligned(s[k]);
+    strength::PlasticState<Batch> a{Batch(1e8), Batch::load_aligned(ep), Batch::load_aligned(heat),
+                                    Batch(0.0), Batch(2700.0),           Batch(0.0),
+                                    Batch(-1.0)};
+    strength::PlasticState<Batch> b = a;
+    j2.return_map(sa, a);
+    j2.return_map<Batch, true>(sb, b);
+    alignas(64) double x[9][W], y[9][W];
+    for (int k = 0; k < 6; ++k) sa[k].store_aligned(x[k]), sb[k].store_aligned(y[k]);
+    a.eps_p.store_aligned(x[6]), a.heat.store_aligned(x[7]), a.deps_p.store_aligned(x[8]);
+    b.eps_p.store_aligned(y[6]), b.heat.store_aligned(y[7]), b.deps_p.store_aligned(y[8]);
+    bool any_yield = false;
+    for (std::size_t l = 0; l < W; ++l) {
+      any_yield = any_yield || y[8][l] > 0.0;
+      for (int k = 0; k < 9; ++k)
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(x[k][l]), std::bit_cast<std::uint64_t>(y[k][l]))
+            << "batch " << rep << " lane " << l << " value " << k;
+    }
+    (any_yield ? yielding : elastic) += 1;
+  }
+  EXPECT_GT(elastic, 1000);
+  EXPECT_GT(yielding, 1000);
 }
 
 }  // namespace
