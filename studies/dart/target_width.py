@@ -11,7 +11,7 @@ RUN/timeseries.csv and RUN/ejecta_launch.csv and prints:
     docs/figures/dart/raducan2019_beta.csv of --point);
   - the growth per 0.1 s and where it is launched: the momentum-weighted median and the 90th
     percentile of the launch radius (launch_radius_m, where the ejecta cross the count plane) of
-    the ejecta launched in each 0.1 s, and the farthest launch so far;
+    the ejecta launched in each 0.1 s, the farthest launch in it and the farthest so far;
   - beta split by launch radius, 1 + p(x in bin) / (m_imp U) for the bins of --bins (m), for
     both runs at the times of --at and, with --tracers (a local copy of sr516/iSALE_ejecta_data,
     CC BY-NC-SA: read, never copied), iSALE's from its tracers' launch distance x.
@@ -203,15 +203,17 @@ def main():
     for name, (ts, launches) in runs.items():
         t_end = ts[-1][0]
         print(f"\n## {name}: growth per 0.1 s and where it is launched")
-        print("| interval (s) | growth | median launch radius (m) | 90th pct (m) | farthest so far (m) |")
-        print("|---|---|---|---|---|")
+        print("| interval (s) | growth | median launch radius (m) | 90th pct (m) | farthest in it (m) "
+              "| farthest so far (m) |")
+        print("|---|---|---|---|---|---|")
         t0 = 0.0
         while t0 < t_end - 1e-9:
             t1 = min(t0 + 0.1, t_end)
             sel = [(x, p) for tl, x, p in launches if t0 < tl <= t1 and p > 0]
             far = max((x for tl, x, p in launches if tl <= t1), default=float("nan"))
             print(f"| {t0:.1f}-{t1:.3g} | {at(ts, t1) - at(ts, t0):+.3f} | "
-                  f"{weighted_quantile(sel, 0.5):.2f} | {weighted_quantile(sel, 0.9):.2f} | {far:.2f} |")
+                  f"{weighted_quantile(sel, 0.5):.2f} | {weighted_quantile(sel, 0.9):.2f} | "
+                  f"{max((x for x, _ in sel), default=float('nan')):.2f} | {far:.2f} |")
             t0 = t1
     labels = [f"{lo:g}-{hi:g} m" for lo, hi in zip(a.bins, a.bins[1:])] + [f">{a.bins[-1]:g} m"]
     print("\n## beta - 1 by launch radius")
