@@ -4,8 +4,9 @@
 Reads the reference (docs/figures/dart/raducan2019_beta.csv, iSALE-2D beta derived by
 studies/dart/raducan2019_beta.py from sr516/iSALE_ejecta_data; derived numbers only) and a table
 of our results (OURS.csv, one row per run: point, cohesion_Pa, porosity_pct, friction,
-beta_launch, t_end_s, target_depth_m, cppr, session, target_radius_m (9 m where absent); written by hand from the runs' records in
-docs/validation-dart.md, since the older runs are not kept) and prints, as markdown:
+beta_launch, t_end_s, target_depth_m, cppr, session, target_radius_m (9 m where absent); written
+by hand from the runs' records in docs/validation-dart.md, since the older runs are not kept) and
+prints, as markdown:
 
   - per point: iSALE's beta, ours, the difference (ours / iSALE - 1) in %, target depth, time
     reached, and whether it is within 20%;

@@ -203,8 +203,8 @@ def main():
     for name, (ts, launches) in runs.items():
         t_end = ts[-1][0]
         print(f"\n## {name}: growth per 0.1 s and where it is launched")
-        print("| interval (s) | growth | median launch radius (m) | 90th pct (m) | farthest in it (m) "
-              "| farthest so far (m) |")
+        print("| interval (s) | growth | median launch radius (m) | 90th pct (m) "
+              "| farthest in it (m) | farthest so far (m) |")
         print("|---|---|---|---|---|---|")
         t0 = 0.0
         while t0 < t_end - 1e-9:
