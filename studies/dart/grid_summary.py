@@ -4,8 +4,9 @@
 Reads the reference (docs/figures/dart/raducan2019_beta.csv, iSALE-2D beta derived by
 studies/dart/raducan2019_beta.py from sr516/iSALE_ejecta_data; derived numbers only) and a table
 of our results (OURS.csv, one row per run: point, cohesion_Pa, porosity_pct, friction,
-beta_launch, t_end_s, target_depth_m, cppr, session; written by hand from the runs' records in
-docs/validation-dart.md, since the older runs are not kept) and prints, as markdown:
+beta_launch, t_end_s, target_depth_m, cppr, session, target_radius_m (9 m where absent); written
+by hand from the runs' records in docs/validation-dart.md, since the older runs are not kept) and
+prints, as markdown:
 
   - per point: iSALE's beta, ours, the difference (ours / iSALE - 1) in %, target depth, time
     reached, and whether it is within 20%;
@@ -71,7 +72,7 @@ def main():
     ref = reference(a.reference)
     ours = read_csv(a.ours)
     print("| point | Ydam0 | porosity | f | iSALE beta | ours (beta_launch) | difference | "
-          "target depth | time reached | CPPR | session |")
+          "target radius x depth | time reached | CPPR | session |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     best = {}  # the last CPPR 3 row of each point (the table lists older runs first)
     for r in ours:
@@ -82,7 +83,8 @@ def main():
         if float(r["cppr"]) == 3:
             best[k] = b
         print(f"| {r['point']} | {k[0] / 1e3:g} kPa | {k[1]:g}% | {k[2]:g} | {b_ref:.3f} | {b:.3f} "
-              f"| {100 * diff:+.1f}%{'' if ok else ' (outside)'} | {float(r['target_depth_m']):g} m "
+              f"| {100 * diff:+.1f}%{'' if ok else ' (outside)'} "
+              f"| {float(r.get('target_radius_m') or 9):g} x {float(r['target_depth_m']):g} m "
               f"| {float(r['t_end_s']):g} s | {float(r['cppr']):g} | {r['session']} |")
     within = sum(abs(b / ref[k] - 1.0) <= a.tolerance for k, b in best.items())
     print(f"\nwithin {100 * a.tolerance:g}%: {within} of {len(best)} points (CPPR 3, the last run"

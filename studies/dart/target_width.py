@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The target's width against the simulated time: two r-z runs of one Raducan et al. 2019 point on
-targets of different radius (issue 32, session 21).
+targets of different radius (issue 32, sessions 21-22).
 
 For NARROW and WIDE (run folders of the same scene but for the target cylinder's radius, e.g.
 scenes/dart/raducan2019-1kpa.toml, 9 m, and raducan2019-1kpa-wide.toml, 13 m) it reads
@@ -11,10 +11,18 @@ RUN/timeseries.csv and RUN/ejecta_launch.csv and prints:
     docs/figures/dart/raducan2019_beta.csv of --point);
   - the growth per 0.1 s and where it is launched: the momentum-weighted median and the 90th
     percentile of the launch radius (launch_radius_m, where the ejecta cross the count plane) of
-    the ejecta launched in each 0.1 s, and the farthest launch so far;
+    the ejecta launched in each 0.1 s, the farthest launch in it and the farthest so far;
   - beta split by launch radius, 1 + p(x in bin) / (m_imp U) for the bins of --bins (m), for
     both runs at the times of --at and, with --tracers (a local copy of sr516/iSALE_ejecta_data,
     CC BY-NC-SA: read, never copied), iSALE's from its tracers' launch distance x.
+
+The lattice's volume factor (session 22): the r-z fill scales every point's volume (and mass) so
+that a body has its shape's exact volume (src/scene/lattice_rz.cpp), and the factor depends on
+where the lattice meets the faces, so the same lattice point can carry a different mass on two
+targets (0.42% more on a 13 m x 12 m cylinder than on the 9 m x 12 m one: session 21's +-0.01
+offset). The script prints the mass ratio wide / narrow of the target points the two runs share
+(same position in their first snapshots, r < 8.5 m), so that a comparison says whether it is
+matched (scenes/dart/raducan2019-10kpa-wide.toml is: 11.96 m deep, ratio 1.0003) or not.
 
 With --plot FILE.png: beta_launch(t) of both (linear time) with iSALE's final beta dotted, and
 below the beta carried by ejecta launched within radius X of the axis against X, for both runs
@@ -31,6 +39,7 @@ import glob
 import math
 import os
 import sys
+import tomllib
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import plot_common as pc  # noqa: E402  (tools/plot_common.py: Agg, dpi, common labels)
@@ -61,6 +70,44 @@ def read_run(run):
                      float(r["mass_kg"]) * max(float(r["normal_speed_m_per_s"]), 0.0) / norm)
                     for r in csv.DictReader(f)]
     return ts, launches
+
+
+def target_label(run):
+    """'9 m x 12 m target' from the run's resolved scene (RUN/scene.toml)."""
+    try:
+        with open(os.path.join(run, "scene.toml"), "rb") as f:
+            t = tomllib.load(f)["body"]["target"]
+        return f"{t['radius']:g} m x {t['length']:.4g} m target"
+    except (OSError, KeyError, tomllib.TOMLDecodeError):
+        return os.path.basename(run.rstrip("/"))
+
+
+def lattice_mass_ratio(narrow, wide, r_max=8.5):
+    """Median, min and max of mass(wide) / mass(narrow) over the target points the two runs share
+    (same r-z position to 1e-3 of a spacing in their first snapshots, r < r_max); None without
+    h5py or snapshots."""
+    try:
+        import h5py
+        import numpy as np
+    except ImportError:
+        return None
+    out = []
+    for run in (narrow, wide):
+        snaps = sorted(glob.glob(os.path.join(run, "snapshots", "snapshot_*.h5")))
+        if not snaps:
+            return None
+        with h5py.File(snaps[0], "r") as f:
+            p = f["particles"]
+            pos, mass, body = p["position"][:], p["mass"][:], p["body"][:]
+            names = [n.decode() if isinstance(n, bytes) else str(n) for n in f["names"]["body"][:]]
+        sel = body == names.index("target") if "target" in names else body == body.max()
+        out.append({(round(x * 1e5), round(z * 1e5)): m
+                    for (x, _, z), m in zip(pos[sel], mass[sel]) if x < r_max})
+    shared = [out[1][k] / out[0][k] for k in out[0].keys() & out[1].keys()]
+    if not shared:
+        return None
+    shared.sort()
+    return shared[len(shared) // 2], shared[0], shared[-1], len(shared)
 
 
 def at(ts, t):
@@ -130,8 +177,17 @@ def main():
     grid = [0.005, 0.01, 0.02] + [round(0.05 * i, 3) for i in range(1, 200)
                                   if 0.05 * i <= max(t_n, t_w) + 1e-9]
     rows = []
-    print(f"# {os.path.basename(a.narrow.rstrip('/'))} (to {t_n:.4f} s) against "
-          f"{os.path.basename(a.wide.rstrip('/'))} (to {t_w:.4f} s); iSALE final {b_isale:.3f}")
+    names = {"narrow": target_label(a.narrow), "wide": target_label(a.wide)}
+    print(f"# {os.path.basename(a.narrow.rstrip('/'))}, {names['narrow']} (to {t_n:.4f} s) against "
+          f"{os.path.basename(a.wide.rstrip('/'))}, {names['wide']} (to {t_w:.4f} s); "
+          f"iSALE final {b_isale:.3f}")
+    ratio = lattice_mass_ratio(a.narrow, a.wide)
+    if ratio:
+        med, lo, hi, n = ratio
+        print(f"# lattice volume factor: mass of a shared target point, wide / narrow = {med:.5f} "
+              f"(min {lo:.5f}, max {hi:.5f}, {n} points at r < 8.5 m): "
+              + ("matched to 1e-3" if abs(med - 1) < 1e-3 else
+                 "NOT matched: part of the difference is the lattice's volume scaling"))
     print("| t (s) | narrow | wide | wide - narrow | narrow vs iSALE | wide vs iSALE |")
     print("|---|---|---|---|---|---|")
     for t in grid + ([t_w] if t_w not in grid else []):
@@ -147,15 +203,17 @@ def main():
     for name, (ts, launches) in runs.items():
         t_end = ts[-1][0]
         print(f"\n## {name}: growth per 0.1 s and where it is launched")
-        print("| interval (s) | growth | median launch radius (m) | 90th pct (m) | farthest so far (m) |")
-        print("|---|---|---|---|---|")
+        print("| interval (s) | growth | median launch radius (m) | 90th pct (m) "
+              "| farthest in it (m) | farthest so far (m) |")
+        print("|---|---|---|---|---|---|")
         t0 = 0.0
         while t0 < t_end - 1e-9:
             t1 = min(t0 + 0.1, t_end)
             sel = [(x, p) for tl, x, p in launches if t0 < tl <= t1 and p > 0]
             far = max((x for tl, x, p in launches if tl <= t1), default=float("nan"))
             print(f"| {t0:.1f}-{t1:.3g} | {at(ts, t1) - at(ts, t0):+.3f} | "
-                  f"{weighted_quantile(sel, 0.5):.2f} | {weighted_quantile(sel, 0.9):.2f} | {far:.2f} |")
+                  f"{weighted_quantile(sel, 0.5):.2f} | {weighted_quantile(sel, 0.9):.2f} | "
+                  f"{max((x for x, _ in sel), default=float('nan')):.2f} | {far:.2f} |")
             t0 = t1
     labels = [f"{lo:g}-{hi:g} m" for lo, hi in zip(a.bins, a.bins[1:])] + [f">{a.bins[-1]:g} m"]
     print("\n## beta - 1 by launch radius")
@@ -178,20 +236,19 @@ def main():
                      "times, against iSALE-2D's final beta (Raducan et al. 2019); "
                      "studies/dart/target_width.py", rows)
     if a.plot:
-        plot(runs, tracers, b_isale, a, t_common)
+        plot(runs, tracers, b_isale, a, t_common, names, key)
 
 
-def plot(runs, tracers, b_isale, a, t_common):
+def plot(runs, tracers, b_isale, a, t_common, names, key):
     fig, (ax, ax_x) = pc.subplots(2, 1, figsize=(7.5, 7.5))
-    names = {"narrow": "9 m target", "wide": "13 m target"}
     for i, (name, (ts, _)) in enumerate(runs.items()):
         ax.plot([t for t, _ in ts], [b for _, b in ts], f"C{i}", label=names[name])
     ax.axhline(b_isale, color="k", ls=":", lw=1, label=f"iSALE-2D final (5 s) {b_isale:.3f}")
     ax.axhline(0.8 * b_isale, color="gray", ls=":", lw=0.7, label="iSALE - 20%")
     pc.label(ax, None, "beta_launch")
     ax.set_xlabel("time (s)")
-    ax.set_title("1 kPa, 20%, f 0.6, r-z MPM CPPR 3: beta_launch(t) on two target widths",
-                 fontsize=9)
+    ax.set_title(f"{key[0] / 1e3:g} kPa, {key[1]:g}%, f {key[2]:g}, r-z MPM CPPR 3: beta_launch(t) "
+                 "on two target widths", fontsize=9)
     pc.legend(ax, loc="lower right")
     xs = [0.25 * i for i in range(0, 57)]
     for i, (name, (ts, launches)) in enumerate(runs.items()):
