@@ -55,9 +55,8 @@ bool Journal::save_columns(const ParticleStore& P, std::vector<std::uint64_t>& l
     lent_out_ = true;
   }
   for (auto& c : cols_) c.resize(n);  // reuses the buffers of the last step
-  // The copy word by word (the same bits), with the exponent test of check_finite OR-ed over
-  // what it reads: no branch per value, and it vectorises as memcpy's loop does.
-  constexpr std::uint64_t kExponent = 0x7ff0000000000000ULL;
+  // The copy word by word (the same bits), with the finite test of check_finite OR-ed over what
+  // it reads: no branch per value, and it vectorises as memcpy's loop does.
   std::atomic<bool> finite{true};
   copy_columns(fields_.size(), n, [&](std::size_t c, std::size_t b, std::size_t e) {
     const double* src = P.col(fields_[c]).data();
@@ -66,7 +65,7 @@ bool Journal::save_columns(const ParticleStore& P, std::vector<std::uint64_t>& l
     for (std::size_t p = b; p < e; ++p) {
       const auto w = std::bit_cast<std::uint64_t>(src[p]);
       dst[p] = w;
-      bad |= static_cast<std::uint64_t>((w & kExponent) == kExponent);
+      bad |= not_finite_bits(w);
     }
     if (bad != 0) finite.store(false, std::memory_order_relaxed);
   });

@@ -40,6 +40,13 @@ constexpr FieldSet kSwappedOut = kPosition;
 // of them constant, step-local or swapped out): the copy tests them as it reads them, so that the
 // sort stage's check need not read them a second time (Journal::save_columns).
 constexpr FieldSet kCheckedByCopy = kVelocity | kStress | FieldSet{Field::rho, Field::energy};
+// The finite test both the copy and check_finite make: 1 when the value's exponent bits are all
+// set (IEEE 754: an infinity or a NaN). OR-ed over a chunk, it has no branch per element and
+// vectorises.
+inline std::uint64_t not_finite_bits(std::uint64_t w) {
+  constexpr std::uint64_t kExponent = 0x7ff0000000000000ULL;
+  return static_cast<std::uint64_t>((w & kExponent) == kExponent);
+}
 static_assert([] {
   for (std::size_t i = 0; i < kFieldCount; ++i) {
     const auto f = static_cast<Field>(i);

@@ -26,12 +26,14 @@ constexpr Field kChecked[] = {Field::x,   Field::y,   Field::z,   Field::vx,    
 constexpr FieldSet kCheckedSet =
     kPosition | kVelocity | kStress | FieldSet{Field::rho, Field::energy, Field::soundspeed};
 
-constexpr std::uint64_t kExponent = 0x7ff0000000000000ULL;
-
-// 1 when the value is not finite: its exponent bits are all set (IEEE 754). OR-ing this over a
-// chunk has no branch per element and vectorises.
+// 1 when the value is not finite (retake.hpp's not_finite_bits, the copy's test).
 inline std::uint64_t not_finite(double v) {
-  return static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(v) & kExponent) == kExponent);
+  return not_finite_bits(std::bit_cast<std::uint64_t>(v));
+}
+
+// Eq. 34's signal speed c_p + |v_p|, the one expression of check_and_fastest and fastest_local.
+inline double signal_speed(double c, double vx, double vy, double vz) {
+  return c + std::sqrt(vx * vx + vy * vy + vz * vz);
 }
 
 // The first particle in [r.begin(), min(r.end(), found)) with a non-finite value in one of the
@@ -83,7 +85,7 @@ Checked check_and_fastest(const ParticleStore& P) {
         double fast = acc.fastest;
         for (std::size_t p = r.begin(); p < r.end(); ++p) {
           any |= not_finite(c[p]) | not_finite(vx[p]) | not_finite(vy[p]) | not_finite(vz[p]);
-          fast = std::max(fast, c[p] + std::sqrt(vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]));
+          fast = std::max(fast, signal_speed(c[p], vx[p], vy[p], vz[p]));
         }
         return Checked{first_bad_in(P, kCheckedRest, r, acc.bad, any), fast};
       },
@@ -186,7 +188,7 @@ double fastest_local(const State& s) {
       tbb::blocked_range<std::size_t>(0, P.size(), kParticleGrain), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double acc) {
         for (std::size_t p = r.begin(); p < r.end(); ++p) {
-          acc = std::max(acc, c[p] + std::sqrt(vx[p] * vx[p] + vy[p] * vy[p] + vz[p] * vz[p]));
+          acc = std::max(acc, signal_speed(c[p], vx[p], vy[p], vz[p]));
         }
         return acc;
       },
