@@ -6,6 +6,11 @@
 // session, rather than against a data-sheet peak this virtual machine may not deliver. Rates are
 // per second of process CPU time (per core busy), as the stage figures they are compared with,
 // so that a machine shared with other work still gives the per-core ceilings.
+// GCC 12's false -Wmaybe-uninitialized inside the AVX-512 square root (PR 105593), as in
+// bench/constitutive.cpp: silenced before the intrinsic headers are included.
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -115,6 +120,33 @@ void BM_FmaChains(benchmark::State& state) {
   state.counters["flops"] = benchmark::Counter(flops * static_cast<double>(state.iterations()),
                                                benchmark::Counter::kIsRate);
 }
+
+// Divisions and square roots of the widest vector, kChains independent chains (one thread): the
+// divider is not pipelined like the FMA units, so a stage with d divisions and square roots per
+// point needs at least d over this rate, whatever its FMA count (the uGIMP rows: 9-18 divisions
+// per point and transfer; the SPH pair passes: a square root and 1-2 divisions per pair). Counted
+// per lane: `ops` is lane-divisions (or lane-roots) per second of process CPU.
+template <bool kSqrt>
+void BM_Divider(benchmark::State& state) {
+  using B = xsimd::batch<double>;
+  constexpr int kChains = 12;
+  constexpr std::int64_t kRounds = 1 << 14;
+  B acc[kChains];
+  for (int k = 0; k < kChains; ++k) acc[k] = B(1.5 + 1e-3 * k);
+  const B m(2.0);
+  for (auto _ : state) {
+    for (std::int64_t r = 0; r < kRounds; ++r) {
+      // x -> 2 / x returns to x every second round; sqrt converges to 1: no overflow, no denormal.
+      for (int k = 0; k < kChains; ++k) acc[k] = kSqrt ? xsimd::sqrt(acc[k]) : m / acc[k];
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  const double ops = static_cast<double>(B::size) * kChains * kRounds;
+  state.counters["ops"] = benchmark::Counter(ops * static_cast<double>(state.iterations()),
+                                             benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Divider<false>)->Name("machine/divide")->MeasureProcessCPUTime();
+BENCHMARK(BM_Divider<true>)->Name("machine/sqrt")->MeasureProcessCPUTime();
 
 #if defined(__AVX512F__) && defined(__FMA__)
 // The FMA peak in 4-lane (256-bit) vectors on an AVX-512 build: whether this core reaches its peak
