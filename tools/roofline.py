@@ -18,6 +18,17 @@ the log-log roofline with the stages as points.
     /usr/bin/python3 tools/roofline.py [--csv PATH] [--out PNG] [--table]
     /usr/bin/python3 tools/roofline.py --measured RUN.json ...   (refresh cpu_ns and rates)
 
+--bound CSV prints the floor of a whole step instead (docs/performance.md, "Session 23: peers and
+the profile of main"): each stage row of that CSV holds its measured CPU ns per point-step (from a
+profile of a real run), its flops, bytes, lane-divisions and lane-square roots per point, and the
+level its columns stream from; the stage's floor is the largest of flops / FMA peak, bytes / triad
+rate of its level and divisions x the divider's time per lane-division + square roots x its time
+per lane-root (bench/machine.cpp, `machine/divide`, `machine/sqrt`, as ceilings `divide` and
+`sqrt` in G lane-operations per second). The step's floor is the sum; a `goal` row (cpu_ns = the
+goal's ns per point-step per core) is set against it.
+
+    /usr/bin/python3 tools/roofline.py --bound docs/figures/performance/bound-lab-impact.csv
+
 --measured refreshes the CSV's measured columns from Google Benchmark JSON files
 (--benchmark_out_format=json of bench_machine, bench_step, bench_sph_step; several runs are
 averaged, their range kept in `range`) and rewrites the CSV. A stage row names its benchmark
@@ -197,13 +208,65 @@ def draw(ceilings, stages, out):
     print(f"wrote {out}")
 
 
+def bound(path):
+    """The floor of each stage and of the whole step (--bound), as Markdown, per method."""
+    ceilings, rows = {}, []
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            if row["kind"] == "ceiling":
+                ceilings[row["name"]] = float(row["rate"])
+            else:
+                rows.append(row)
+    for need in ("fma", "divide", "sqrt"):
+        if need not in ceilings:
+            raise SystemExit(f"{path}: no ceiling row '{need}'")
+    num = lambda r, k: float(r[k]) if r.get(k) else 0.0  # noqa: E731
+    for method in dict.fromkeys(r["method"] for r in rows):
+        print(f"\n{method}\n")
+        print("| stage | measured CPU ns | flops | B | div. | sqrt | ns at FMA peak | ns at triad "
+              "| ns on the divider | floor ns | floor / measured |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        measured_sum = floor_sum = 0.0
+        goal = None
+        for r in rows:
+            if r["method"] != method:
+                continue
+            if r["kind"] == "goal":
+                goal = (r["name"], num(r, "cpu_ns"))
+                continue
+            ns = num(r, "cpu_ns")
+            t_fma = num(r, "flops") / ceilings["fma"]
+            t_mem = num(r, "bytes") / ceilings[r["level"]] if r["level"] else 0.0
+            t_div = num(r, "divisions") / ceilings["divide"] + num(r, "sqrts") / ceilings["sqrt"]
+            floor = max(t_fma, t_mem, t_div)
+            measured_sum += ns
+            floor_sum += floor
+            print(f"| {r['name']} | {ns:.1f} | {num(r, 'flops'):.0f} | {num(r, 'bytes'):.0f} | "
+                  f"{num(r, 'divisions'):.0f} | {num(r, 'sqrts'):.0f} | {t_fma:.1f} | {t_mem:.1f} | "
+                  f"{t_div:.1f} | **{floor:.1f}** | {100 * floor / ns:.0f} % |")
+        print(f"| **step** | **{measured_sum:.1f}** | | | | | | | | **{floor_sum:.1f}** | "
+              f"{100 * floor_sum / measured_sum:.0f} % |")
+        line = (f"\n{method}: measured {1e3 / measured_sum:.2f} M point-steps per CPU-s, floor "
+                f"{1e3 / floor_sum:.2f} M per core")
+        if goal:
+            line += (f"; goal '{goal[0]}' = {goal[1]:.0f} ns per point-step per core: measured / "
+                     f"goal {measured_sum / goal[1]:.2f}, floor / goal {floor_sum / goal[1]:.2f} "
+                     f"(the goal needs {100 * floor_sum / goal[1]:.0f} % of the floor on average, "
+                     f"the step attains {100 * floor_sum / measured_sum:.0f} %)")
+        print(line)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--csv", default=os.path.join(FIG_DIR, "roofline.csv"))
     p.add_argument("--out", default=os.path.join(FIG_DIR, "roofline.png"))
     p.add_argument("--table", action="store_true", help="print the Markdown table")
     p.add_argument("--measured", nargs="+", metavar="JSON", help="refresh the measured columns")
+    p.add_argument("--bound", metavar="CSV", help="print the floor of a step's stages and stop")
     a = p.parse_args()
+    if a.bound:
+        bound(a.bound)
+        return
     if a.measured:
         with open(a.csv, newline="") as f:
             rows = list(csv.DictReader(f))
