@@ -50,48 +50,8 @@ void BM_G2P(benchmark::State& state) {
   state.counters["col_bytes_rw"] = 8.0 * 17 + 8.0 * kernels::Stencil<Shape>::kRow + 1.0;
 }
 
-// The engine's uGIMP path: rows recomputed at every read (StencilCache::kRecompute), G2P one
-// particle at a time (range 2 = 0) or with the particles that share a stencil in the lanes of
-// one vector (1: kernels/mpm/shared.hpp; the same bits). Both in one process.
-void BM_G2PRecomputed(benchmark::State& state) {
-  using Shape = kernels::GimpShape;
-  bench::Prepared<Shape> body(state.range(0));
-  ParticleStore& P = body.store;
-  const SparseGrid& grid = body.grid;
-  const std::size_t n = P.size();
-  const double ih = 1.0 / bench::kCell;
-  AlignedVector<double> dx(n), dy(n), dz(n);
-  kernels::G2PParticles in = mpm::g2p_inputs(P, ih, dx.data(), dy.data(), dz.data());
-  in.dt_velocity = 1e-12;
-  in.dt_position = 1e-12;
-  in.stencil.mode = kernels::StencilCache::kRecompute;
-  in.stencil.x[0] = P.col(Field::x).data();
-  in.stencil.x[1] = P.col(Field::y).data();
-  in.stencil.x[2] = P.col(Field::z).data();
-  in.stencil.size0 = P.col(Field::size0).data();
-  in.stencil.inv_h = ih;
-  in.stencil.shared_lanes = state.range(2) != 0;
-  tbb::task_arena arena(static_cast<int>(state.range(1)));
-  arena.execute([&] {
-    for (auto _ : state) {
-      bench::gather_blocks<kernels::G2PWindow>(
-          grid, [&](std::span<const std::uint32_t> run, const SparseGrid::Coord& owner,
-                    const std::uint32_t* nb, kernels::G2PWindow& win) {
-            kernels::g2p_block<Shape>(in, run, owner, nb, grid.nodes(), win,
-                                      [](std::size_t, const double(&)[3]) {});
-          });
-      benchmark::ClobberMemory();
-    }
-  });
-  bench::report(state, P, grid.bytes());
-}
-
 }  // namespace
 
 BENCHMARK(BM_G2P<kernels::GimpShape>)->Name("g2p/ugimp")->Apply(bench::sizes_and_threads);
-BENCHMARK(BM_G2PRecomputed)
-    ->Name("g2p/ugimp_recomputed")
-    ->ArgsProduct({bench::particle_counts({100000, 1000000}), {1}, {0, 1}})
-    ->ArgNames({"particles", "threads", "shared"});
 
 BENCHMARK_MAIN();

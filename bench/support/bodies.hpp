@@ -120,28 +120,16 @@ void owner_keys(const ParticleStore& s, std::vector<std::uint64_t>& keys) {
       });
 }
 
-// Physically re-orders the store by owner block, then stencil base (stable), as the sort stage
-// does every reorder_interval steps; returns the keys in the new order.
+// Physically re-orders the store by owner block (stable), as the sort stage does every
+// reorder_interval steps; returns the keys in the new order.
 template <class Shape>
 std::vector<std::uint64_t> sort_by_block(ParticleStore& s) {
   std::vector<std::uint64_t> keys;
   owner_keys<Shape>(s, keys);
-  const double ih = 1.0 / kCell;
-  const double* X[3] = {s.col(Field::x).data(), s.col(Field::y).data(), s.col(Field::z).data()};
-  std::vector<std::uint8_t> base(s.size());
-  for (std::size_t p = 0; p < s.size(); ++p) {
-    unsigned b = 0;
-    for (int d = 0; d < 3; ++d) {
-      const auto f = static_cast<std::int64_t>(kernels::first_node(X[d][p], ih, Shape::kShift));
-      b |= static_cast<unsigned>(f & (SparseGrid::kBlock - 1)) << (2 * d);
-    }
-    base[p] = static_cast<std::uint8_t>(b);
-  }
   std::vector<std::uint32_t> order(s.size());
   std::iota(order.begin(), order.end(), 0U);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return keys[a] != keys[b] ? keys[a] < keys[b] : base[a] < base[b];
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
   s.permute(order);
   std::vector<std::uint64_t> sorted(s.size());
   for (std::size_t k = 0; k < s.size(); ++k) sorted[k] = keys[order[k]];

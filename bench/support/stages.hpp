@@ -89,8 +89,7 @@ struct Prepared {
   std::vector<std::uint8_t> stencil_off;
   explicit Prepared(std::int64_t n) : store(make_body(n)) {
     const auto keys = sort_by_block<Shape>(store);
-    const auto ids = store.col(IField::id);  // the engine's list order: by id
-    grid.assign(keys, {}, {ids.data(), ids.size()});
+    grid.assign(keys);
     stencil_w.resize(store.size() * kernels::Stencil<Shape>::kRow);
     stencil_off.resize(store.size());
     const ParticleStore& P = store;

@@ -8,7 +8,6 @@
 #include <span>
 
 #include "mpm/lanes.hpp"
-#include "mpm/shared.hpp"
 #include "mpm/stencil.hpp"
 
 namespace shatter::kernels {
@@ -126,47 +125,9 @@ void g2p_gather(const St& st, const G2PWindow& win, double (&fp)[8], double (&fv
   if constexpr (Filtered) s4.store(fv);
 }
 
-#if defined(SHATTER_AVX512_ROWS)
-// g2p_block's recomputed uGIMP rows, runs of particles that share a stencil in the lanes of one
-// vector (for_each_shared_run): each lane's sums are g2p_gather's, so update(p, s, t) sees the
-// same values. A lane whose row came out at another stencil (none in the engine) is gathered
-// alone by gather(stencil, s, t).
-template <class Gather, class Update>
-void g2p_shared(const G2PParticles& in, std::span<const std::uint32_t> particles,
-                const G2PWindow& win, Gather&& gather, Update&& update) {
-  using Shape = GimpShape;
-  const bool filtered = in.fvx != nullptr;
-  for_each_shared_run<false>(in.stencil, particles,
-                             [&](const double* rows, unsigned base, const std::uint8_t* off,
-                                 const std::uint32_t* idx, int count) {
-                               alignas(64) double sums[9][8];
-                               __m512d s[6], t[3];
-                               if (filtered) {
-                                 g2p_gather_shared<true>(rows, base, win.fp(0), win.fv(0), s, t);
-                               } else {
-                                 g2p_gather_shared<false>(rows, base, win.fp(0), win.fv(0), s, t);
-                               }
-                               for (int f = 0; f < 6; ++f) _mm512_storeu_pd(sums[f], s[f]);
-                               for (int f = 0; f < 3; ++f) _mm512_storeu_pd(sums[6 + f], t[f]);
-                               for (int k = 0; k < count; ++k) {
-                                 alignas(64) double sp[8] = {};
-                                 alignas(32) double tp[4] = {};
-                                 if (off[k] == base) {
-                                   for (int f = 0; f < 6; ++f) sp[f] = sums[f][k];
-                                   for (int f = 0; f < 3; ++f) tp[f] = sums[6 + f][k];
-                                 } else {
-                                   gather(BatchStencil<Shape>(rows, k, off[k]), sp, tp);
-                                 }
-                                 update(idx[k], sp, tp);
-                               }
-                             });
-}
-#endif
-
 // Grid arrays after the grid update: acceleration in f*, velocity in p*. Particles of one owner
 // block that share one neighbour list (all of them, except where bodies meet); the window is
-// the caller's scratch. after(p, v0) runs once per particle with its velocity before the update,
-// in the list's order or, with shared lanes, grouped by stencil base (no result depends on it).
+// the caller's scratch. after(p, v0) runs once per particle with its velocity before the update.
 template <class Shape, class After>
 void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
                const SparseGrid::Coord& owner, const std::uint32_t* neighbours,
@@ -217,12 +178,6 @@ void g2p_block(const G2PParticles& in, std::span<const std::uint32_t> particles,
   };
   if constexpr (kRecomputedRows<Shape>) {
     if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP case
-#if defined(SHATTER_AVX512_ROWS)
-      if (in.stencil.shared_lanes) {  // runs sharing a stencil, eight per vector (shared.hpp)
-        g2p_shared(in, particles, win, gather, update);
-        return;
-      }
-#endif
       for_each_recomputed<Shape, false>(in.stencil, particles,
                                         [&](const auto& stencil, std::uint32_t p) {
                                           alignas(64) double s[8];

@@ -41,9 +41,6 @@ struct StencilCache {
   const double* size0 = nullptr;
   double inv_h = 0.0;
   bool axisymmetric = false;
-  // kRecompute with AVX-512: the gathers take the particles that share a stencil eight per
-  // vector (kernels/mpm/shared.hpp; the same bits); false: one particle at a time.
-  bool shared_lanes = true;
 };
 
 // The shapes whose rows the engine recomputes at every read instead of storing them.

@@ -8,7 +8,6 @@
 #include <span>
 
 #include "mpm/lanes.hpp"
-#include "mpm/shared.hpp"
 #include "mpm/stencil.hpp"
 
 namespace shatter::kernels {
@@ -65,42 +64,6 @@ void velocity_gradient_gather(const St& st, const GradientWindow& win, double (&
   L2.store(L[2]);
 }
 
-#if defined(SHATTER_AVX512_ROWS)
-// velocity_gradient_block's recomputed uGIMP rows, runs of particles that share a stencil in
-// the lanes of one vector (for_each_shared_run): update(p, L) sees the L of
-// velocity_gradient_gather (L[r][3], the interpolated velocity, in the axisymmetric mode only).
-// A lane whose row came out at another stencil (none in the engine) is gathered alone.
-template <bool kAxisymmetric, class Update>
-void velocity_gradient_shared_block(const GradientParticles& in,
-                                    std::span<const std::uint32_t> particles,
-                                    const GradientWindow& win, Update&& update) {
-  for_each_shared_run<true>(in.stencil, particles,
-                            [&](const double* rows, unsigned base, const std::uint8_t* off,
-                                const std::uint32_t* idx, int count) {
-                              alignas(64) double sums[3][4][8] = {};
-                              {
-                                __m512d L[3][4];
-                                velocity_gradient_shared<kAxisymmetric>(rows, base, win.v, L);
-                                for (int r = 0; r < 3; ++r) {
-                                  for (int q = 0; q < 4; ++q) _mm512_storeu_pd(sums[r][q], L[r][q]);
-                                }
-                              }
-                              for (int k = 0; k < count; ++k) {
-                                alignas(32) double L[3][4];
-                                if (off[k] == base) {
-                                  for (int r = 0; r < 3; ++r) {
-                                    for (int q = 0; q < 4; ++q) L[r][q] = sums[r][q][k];
-                                  }
-                                } else {
-                                  velocity_gradient_gather(BatchStencil<GimpShape>(rows, k, off[k]),
-                                                           win, L);
-                                }
-                                update(idx[k], L);
-                              }
-                            });
-}
-#endif
-
 // Grid velocity in p*: after the MUSL remap (FLIP), or straight from the grid update (APIC).
 // Particles of one owner block that share one neighbour list; the window is the caller's scratch.
 // kAxisymmetric: (r, z) = (x, z), the hoop direction y, whose stencil is degenerate (L_yj = 0,
@@ -140,12 +103,6 @@ void velocity_gradient_block(const GradientParticles& in, std::span<const std::u
   };
   if constexpr (kRecomputedRows<Shape>) {
     if (in.stencil.mode == StencilCache::kRecompute) {  // the engine's uGIMP case
-#if defined(SHATTER_AVX512_ROWS)
-      if (in.stencil.shared_lanes) {  // runs sharing a stencil, eight per vector (shared.hpp)
-        velocity_gradient_shared_block<kAxisymmetric>(in, particles, win, update);
-        return;
-      }
-#endif
       for_each_recomputed<Shape>(in.stencil, particles, [&](const auto& stencil, std::uint32_t p) {
         alignas(32) double L[3][4];
         velocity_gradient_gather(stencil, win, L);

@@ -12,44 +12,23 @@
 namespace shatter::mpm {
 namespace {
 
-// Physically re-orders each material group by block key, then stencil base (stable, so
-// deterministic): the scatter and gather then stream through memory, and the gathers, which
-// visit a block's particles grouped by stencil base (kernels/mpm/shared.hpp), find each group
-// side by side. The lists (SparseGrid, by id) and so every sum do not depend on this order. The
-// keys are computed again after the re-order (a function of the positions alone, so the same
-// values, permuted) rather than permuted through a second key array (8 B per particle at the
-// re-order).
+// Physically re-orders each material group by block key (stable, so deterministic): the
+// scatter and gather then stream through memory. The keys are computed again after the
+// re-order (a function of the positions alone, so the same values, permuted) rather than
+// permuted through a second key array (8 B per particle at the re-order).
 template <class Shape>
 void reorder(State& s) {
   ParticleStore& P = s.particles;
   const std::size_t n = P.size();
-  // Only for the re-order (5 B per particle in this stage): the step retake keeps the re-order
+  // Only for the re-order (4 B per particle in this stage): the step retake keeps the re-order
   // rather than undoing it (retake.hpp), so nothing reads the permutation after the permute.
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0U);
-  std::vector<std::uint8_t> base(n);
-  const double ih = s.inv_h();
-  const bool rz = s.config.geometry == Geometry::axisymmetric;
-  const double limit = static_cast<double>(SparseGrid::kMaxBlockCoord * SparseGrid::kBlock);
-  const double* X[3] = {P.col(Field::x).data(), P.col(Field::y).data(), P.col(Field::z).data()};
-  for (std::size_t p = 0; p < n; ++p) {  // the first node's offsets in its block (the rows')
-    unsigned b = 0;
-    for (int d = 0; d < 3; ++d) {
-      if (rz && d == 1) continue;
-      const double f = kernels::first_node(X[d][p], ih, Shape::kShift);
-      const double c = std::isfinite(f) ? std::clamp(f, -limit, limit) : 0.0;  // compute_keys'
-      const auto node = static_cast<std::int64_t>(c);
-      b |= static_cast<unsigned>(node & (SparseGrid::kBlock - 1)) << (2 * d);
-    }
-    base[p] = static_cast<std::uint8_t>(b);
-  }
   for (const Group& g : P.groups()) {
-    std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(g.range.begin),
-                     order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
-                     [&](std::uint32_t a, std::uint32_t b) {
-                       const std::uint64_t ka = s.owner_keys[a], kb = s.owner_keys[b];
-                       return ka != kb ? ka < kb : base[a] < base[b];
-                     });
+    std::stable_sort(
+        order.begin() + static_cast<std::ptrdiff_t>(g.range.begin),
+        order.begin() + static_cast<std::ptrdiff_t>(g.range.end),
+        [&](std::uint32_t a, std::uint32_t b) { return s.owner_keys[a] < s.owner_keys[b]; });
   }
   P.permute(order, s.scratch.dx);  // through a dead buffer (Scratch)
   compute_keys<Shape>(s);
