@@ -16,7 +16,6 @@
 // (x_ii = 0 and v_ii = 0 make every pair term 0, and the inner kernel branch is finite).
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -30,28 +29,6 @@
 #include "sph/terms.hpp"
 
 namespace shatter::kernels::sph {
-
-#if defined(__AVX512F__)
-// r[c] lane l -> r[l] lane c: the 8 x 8 transpose in three rounds of shuffles (pairs of
-// doubles, then of 16-byte and of 32-byte halves).
-inline void transpose8(__m512d (&r)[8]) {
-  __m512d t[8], u[8];
-  for (int k = 0; k < 4; ++k) {
-    t[2 * k] = _mm512_unpacklo_pd(r[2 * k], r[2 * k + 1]);
-    t[2 * k + 1] = _mm512_unpackhi_pd(r[2 * k], r[2 * k + 1]);
-  }
-  for (int k = 0; k < 2; ++k) {
-    u[4 * k] = _mm512_shuffle_f64x2(t[4 * k], t[4 * k + 2], 0x88);
-    u[4 * k + 1] = _mm512_shuffle_f64x2(t[4 * k + 1], t[4 * k + 3], 0x88);
-    u[4 * k + 2] = _mm512_shuffle_f64x2(t[4 * k], t[4 * k + 2], 0xdd);
-    u[4 * k + 3] = _mm512_shuffle_f64x2(t[4 * k + 1], t[4 * k + 3], 0xdd);
-  }
-  for (int k = 0; k < 4; ++k) {
-    r[k] = _mm512_shuffle_f64x2(u[k], u[k + 4], 0x88);
-    r[k + 4] = _mm512_shuffle_f64x2(u[k], u[k + 4], 0xdd);
-  }
-}
-#endif
 
 // The lanes of T: its width, gathers of neighbour columns, sums and maxima across lanes.
 template <class T>
@@ -72,18 +49,6 @@ struct Lanes {
   static double load_nonzero(const double* p, unsigned mask) { return mask != 0u ? *p : 0.0; }
   static double sum(double v) { return v; }
   static double max(double v) { return v; }
-  // The symmetric passes' shares of the upper particles (pairs.hpp): rows[stride idx[l] + c] +=
-  // v[c] (add_rows) for the lanes l in `lanes`, and col[idx[l]] = max(col[idx[l]], v) (max_to).
-  template <std::size_t C>
-  static void add_rows(double* rows, std::size_t stride, const Index* idx, const double (&v)[C],
-                       unsigned lanes) {
-    if ((lanes & 1u) == 0u) return;
-    double* p = rows + stride * static_cast<std::size_t>(idx[0]);
-    for (std::size_t c = 0; c < C; ++c) p[c] += v[c];
-  }
-  static void max_to(double* col, const Index* idx, double v, unsigned lanes) {
-    if ((lanes & 1u) != 0u) col[idx[0]] = std::max(col[idx[0]], v);
-  }
 };
 template <class A>
 struct Lanes<xsimd::batch<double, A>> {
@@ -144,65 +109,6 @@ struct Lanes<xsimd::batch<double, A>> {
   }
   static double sum(const B& v) {
     return xsimd::hadd(v);
-  }
-  // As Lanes<double>. With AVX-512, the C <= 8 vectors transposed in registers (transpose8) so
-  // that each lane's components are one vector, added to its whole row with one load and store
-  // (instead of C scalar loads and stores per lane: measured, session 23); C = 2 as 16-byte
-  // pairs. Otherwise lane by lane through a buffer.
-  template <std::size_t C>
-  static void add_rows(double* rows, std::size_t stride, const Index* idx, const B (&v)[C],
-                       unsigned lanes) {
-    static_assert(C <= width || width != 8, "a row is at most one vector");
-    assert(C == 2 || stride == 8);
-#if defined(__AVX512F__)
-    if constexpr (width == 8 && C == 2) {
-      alignas(64) double t[16];
-      _mm512_store_pd(t, _mm512_unpacklo_pd(v[0], v[1]));
-      _mm512_store_pd(t + 8, _mm512_unpackhi_pd(v[0], v[1]));
-      for (std::size_t l = 0; l < 8; ++l) {
-        if ((lanes >> l) & 1u) {
-          double* p = rows + stride * static_cast<std::size_t>(idx[l]);
-          const double* q = t + (l % 2 == 0 ? l : 7 + l);
-          _mm_storeu_pd(p, _mm_add_pd(_mm_loadu_pd(p), _mm_load_pd(q)));
-        }
-      }
-      return;
-    } else if constexpr (width == 8) {
-      __m512d r[8];
-      for (std::size_t c = 0; c < 8; ++c) r[c] = c < C ? __m512d(v[c]) : _mm512_setzero_pd();
-      transpose8(r);
-      // Whole rows (stride 8, 64-byte aligned; the components past C take +0): a masked load
-      // cannot take its value from the masked store of the row just before (the next
-      // particle's list shares most rows), and waited for it (measured, session 23).
-      const auto add = [&](std::size_t l) {
-        double* p = rows + 8 * static_cast<std::size_t>(idx[l]);
-        _mm512_store_pd(p, _mm512_add_pd(_mm512_load_pd(p), r[l]));
-      };
-      if (lanes == 0xffu) {
-        for (std::size_t l = 0; l < 8; ++l) add(l);  // no test per lane in a full group
-      } else {
-        for (std::size_t l = 0; l < 8; ++l) {
-          if ((lanes >> l) & 1u) add(l);
-        }
-      }
-      return;
-    }
-#endif
-    alignas(64) double a[C][width];
-    for (std::size_t c = 0; c < C; ++c) v[c].store_aligned(a[c]);
-    for (std::size_t l = 0; l < width; ++l) {
-      if ((lanes >> l) & 1u) {
-        double* p = rows + stride * static_cast<std::size_t>(idx[l]);
-        for (std::size_t c = 0; c < C; ++c) p[c] += a[c][l];
-      }
-    }
-  }
-  static void max_to(double* col, const Index* idx, const B& v, unsigned lanes) {
-    alignas(64) double a[width];
-    v.store_aligned(a);
-    for (std::size_t l = 0; l < width; ++l) {
-      if ((lanes >> l) & 1u) col[idx[l]] = std::max(col[idx[l]], a[l]);
-    }
   }
   static double max(const B& v) {
     alignas(64) double a[width];

@@ -138,30 +138,6 @@ inline void viscous_term(T (&acc)[3], T& heat, const T& m_j, const T& pi, const 
   heat += T(0.5) * w * (vij[0] * grad[0] + vij[1] * grad[1] + vij[2] * grad[2]);
 }
 
-// The symmetric passes' pair vector (kernels/sph/pairs.hpp): Eq. 17's stress force and the
-// viscous force of viscous_term in one, evaluated once per pair,
-//   P_ij = s (A_i + A_j) . grad_i W_ij - Pi_ij grad_i W_ij,
-//   dv_i/dt += m_j P_ij,   dv_j/dt -= m_i P_ij   (grad_j W_ji = -grad_i W_ij),
-// with s = 1 and A = sigma / rho^2 (BA95 Eq. 17), or s = 1 / (rho_i rho_j) and A = sigma (the
-// normalized form, ForceInputs::normalized).
-template <class T>
-inline void pair_force_term(T (&P)[3], const T& s, const T (&A_i)[6], const T (&A_j)[6],
-                            const T& pi, const T (&grad)[3]) {
-  const T a[6] = {A_i[0] + A_j[0], A_i[1] + A_j[1], A_i[2] + A_j[2],
-                  A_i[3] + A_j[3], A_i[4] + A_j[4], A_i[5] + A_j[5]};
-  P[0] = s * (a[0] * grad[0] + a[3] * grad[1] + a[5] * grad[2]) - pi * grad[0];
-  P[1] = s * (a[3] * grad[0] + a[1] * grad[1] + a[4] * grad[2]) - pi * grad[1];
-  P[2] = s * (a[5] * grad[0] + a[4] * grad[1] + a[2] * grad[2]) - pi * grad[2];
-}
-
-// The viscous heating of viscous_term per unit of the other particle's mass,
-// 1/2 Pi_ij v_ij . grad_i W_ij (Monaghan 1992, Eq. 4.4): the same for both sides of the pair
-// (v_ji . grad_j W_ji = v_ij . grad_i W_ij).
-template <class T>
-inline T pair_heating_term(const T& pi, const T (&vij)[3], const T (&grad)[3]) {
-  return T(0.5) * pi * (vij[0] * grad[0] + vij[1] * grad[1] + vij[2] * grad[2]);
-}
-
 // Time-centred viscous heating, the energy side of viscous_term over one kick. The force of the
 // kick was made with the velocities v^{n-1/2}; over the kick it removes kinetic energy at the
 // mean velocity (v^{n-1/2} + v^{n+1/2}) / 2, so the heat must be made with that mean to balance

@@ -1,13 +1,12 @@
 // The particle passes of the SPH step (include/shatter/sph/solver.hpp): the kick (step 1), the
-// rates pass (step 2, BA95 Eqs. 16 and 18), the material update (step 3) and the drift (step 4).
-// The forces pass (step 6) and the pair passes' tiles are in tiles.cpp.
+// rates gather pass (step 2, BA95 Eqs. 16 and 18), the material update (step 3), the drift
+// (step 4) and the forces gather pass (step 6, BA95 Eq. 17 with Monaghan's viscosity).
 
 #include <algorithm>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
 
-#include "sph/pairs.hpp"
 #include "sph/solver_impl.hpp"
 
 namespace shatter::sph {
@@ -76,16 +75,11 @@ void SphSolver::Impl::midpoint_smoothing_lengths(double dt) {
                     });
 }
 
-// The rates pass in the symmetric form (kernels/sph/pairs.hpp, rates_upper) over the tiles of
-// the last forces pass (tiles.cpp: the same compacted lists), the velocity gradient's sums and
-// the kick's heat in rows8 and rows2, then turned into the increments and rho^{n+1} per particle
-// (write_rates) and `heat`.
 void SphSolver::Impl::rates(double dt, double dt_kick) {
   ParticleStore& P = s.particles_;
-  const std::size_t n = P.size();
   midpoint_smoothing_lengths(dt);
   if (mirrors) {
-    mirror_scalar(h_mid.data(), n);
+    mirror_scalar(h_mid.data(), P.size());
     refresh_ghost_state();  // v^{n+1/2} of the images
   }
   ks::PairInputs in = inputs();
@@ -94,18 +88,16 @@ void SphSolver::Impl::rates(double dt, double dt_kick) {
   for (int c = 0; c < 6; ++c) out.deps[c] = P.col(kDepsOrder[c]).data();
   for (int c = 0; c < 3; ++c) out.dspin[c] = P.col(kSpinOrder[c]).data();
   out.rho = P.col(Field::rho).data();
-  rows8.resize(8 * n);
-  rows2.resize(2 * n);
-  const ks::RateSums sums{rows8.data(), rows2.data()};
-  // rho^n of every particle for the normalized continuity: the column itself (the pair pass
-  // does not write it), or the images' copy.
-  const double* rho_n =
-      s.sph_.continuity == Continuity::normalized ? (mirrors ? erho.data() : out.rho) : nullptr;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      std::fill(rows8.data() + 8 * r.begin(), rows8.data() + 8 * r.end(), 0.0);
-                      std::fill(rows2.data() + 2 * r.begin(), rows2.data() + 2 * r.end(), 0.0);
-                    });
+  if (s.sph_.continuity == Continuity::normalized) {
+    // rho^n of the neighbours, read while the pass overwrites the column (the images' copy,
+    // erho, is already separate).
+    if (!mirrors) {
+      const auto r = P.col(Field::rho);
+      rho_n.resize(P.size());
+      std::copy(r.begin(), r.end(), rho_n.begin());
+    }
+    out.rho_n = mirrors ? erho.data() : rho_n.data();
+  }
   const ks::KickHeating kick{.pair_w = pair_w.data(),
                              .pair_mask = pair_mask.data(),
                              .ax = ax.data(),
@@ -113,26 +105,19 @@ void SphSolver::Impl::rates(double dt, double dt_kick) {
                              .az = az.data(),
                              .dt_kick = dt_kick,
                              .heat = heat.data()};
-  over_tiles([&](std::size_t c) {
-    std::size_t w = chunk_w[c], g = chunk_mask[c];
-    const std::size_t end = std::min(n, (c + 1) * kPairGrain);
-    for (std::size_t i = c * kPairGrain; i < end; ++i) {
-      // The pairs within support at x^n and h^n, compacted by the forces pass of the last step
-      // (or of the constructor or restore()): their upper half.
-      const std::size_t half = active_count[i] - upper_at[i];
-      w += ks::rates_upper<simd::Batch>(in, search.begin_of(i) + upper_at[i], half, i, n, dt, rho_n,
-                                        sums, kick, w, g);
-      g += groups(half);
-    }
-  });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
+  const std::size_t n = P.size();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_w.size(), 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        double Lsum[3][3];
-                        for (int c = 0; c < 8; ++c) Lsum[c / 3][c % 3] = rows8[8 * i + c];
-                        Lsum[2][2] = rows2[2 * i];
-                        ks::write_rates(Lsum, out.rho[i], dt, out, i);
-                        heat[i] = rows2[2 * i + 1] * dt_kick;
+                      for (std::size_t c = r.begin(); c < r.end(); ++c) {
+                        std::size_t w = chunk_w[c], g = chunk_mask[c];
+                        const std::size_t end = std::min(n, (c + 1) * kPairGrain);
+                        for (std::size_t i = c * kPairGrain; i < end; ++i) {
+                          // The pairs within support at x^n and h^n, compacted by the forces
+                          // pass of the last step (or of the constructor or restore()).
+                          w += ks::rates_particle<simd::Batch>(
+                              in, search.begin_of(i), active_count[i], i, dt, out, kick, w, g);
+                          g += groups(active_count[i]);
+                        }
                       }
                     });
 }
@@ -157,6 +142,164 @@ void SphSolver::Impl::drift(double dt) {
                         for (std::size_t p = r.begin(); p < r.end(); ++p) X[d][p] += V[d][p] * dt;
                       }
                     });
+}
+
+namespace {
+
+// Room for n entries in v, grown by an eighth when short (as the search's list buffers). Growing
+// to the exact count re-allocated (and copied) at nearly every list build and every step of a
+// compressing flow: in the laboratory impact that copy and its page faults were 15 % of the
+// run (docs/performance.md, SPH round 5). The content is not kept across the growth (it is
+// rewritten before it is read), so the old array is dropped before the new one is made.
+template <class V>
+void make_room(V& v, std::size_t n) {
+  if (v.capacity() < n) {
+    const std::size_t cap = std::max(n, v.capacity() + v.capacity() / 8);
+    V().swap(v);
+    v.reserve(cap);
+  }
+  v.resize(n);
+}
+
+}  // namespace
+
+// Each list re-arranged so that its pairs within support come first, in ascending index order
+// (a Verlet list's skin entries after them), which the forces pass and the next step's rates
+// pass use: it runs at these same positions and h. The viscous weights' masks are kept for those
+// pairs only (chunk_mask: where each chunk's start), 53 instead of 75 per particle in the
+// benchmark's cube.
+void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
+  const std::size_t n = s.particles_.size();
+  const std::size_t chunks = (n + kPairGrain - 1) / kPairGrain;
+  active_count.resize(n);
+  chunk_mask.resize(chunks + 1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::vector<std::uint32_t>& scratch = rest.local();
+                      for (std::size_t c = r.begin(); c < r.end(); ++c) {
+                        std::size_t masks = 0;
+                        const std::size_t end = std::min(n, (c + 1) * kPairGrain);
+                        for (std::size_t i = c * kPairGrain; i < end; ++i) {
+                          const std::size_t count = search.count(i);
+                          if (scratch.size() < count + 8) scratch.resize(count + 8);
+                          const std::size_t sorted = lists_sorted ? count : active_count[i];
+                          active_count[i] = static_cast<std::uint32_t>(ks::partition_within_support(
+                              in, search.rearrange(i), count, sorted, i, scratch.data()));
+                          masks += groups(active_count[i]);
+                        }
+                        chunk_mask[c + 1] = masks;
+                      }
+                    });
+  lists_sorted = false;
+  chunk_mask[0] = 0;
+  for (std::size_t c = 0; c < chunks; ++c) chunk_mask[c + 1] += chunk_mask[c];
+  make_room(pair_mask, chunk_mask[chunks]);
+}
+
+// A new layout of pair_w after a forces pass in which chunks found no room: each chunk's weights
+// (from its room, or from `spill` where it had none) at the start of a new room of an eighth
+// more than it needs (and 64), in chunk order. pair_w does not shrink (the search borrows it).
+void SphSolver::Impl::place_weights() {
+  std::size_t total = 0;
+  for (const std::size_t w : chunk_w_count) total += w + w / 8 + 64;
+  std::vector<double> placed(std::max(total, pair_w.size()));
+  std::size_t at = 0;
+  for (std::size_t c = 0; c < chunk_w.size(); ++c) {
+    const double* from = spill[c].empty() ? pair_w.data() + chunk_w[c] : spill[c].data();
+    std::copy(from, from + chunk_w_count[c], placed.data() + at);
+    chunk_w[c] = at;
+    chunk_room[c] = chunk_w_count[c] + chunk_w_count[c] / 8 + 64;
+    at += chunk_room[c];
+    std::vector<double>().swap(spill[c]);
+  }
+  pair_w.swap(placed);
+}
+
+// The forces pass over chunk c's particles, their weights written straight into the chunk's room
+// in pair_w; a particle that might not fit (it writes at most its pair count) moves them to the
+// thread's buffer, and they end in spill[c]. Returns whether they did.
+bool SphSolver::Impl::forces_chunk(std::size_t c, const ks::PairInputs& in,
+                                   const ks::ForceInputs& f) {
+  const std::size_t begin = c * kPairGrain;
+  const std::size_t end = std::min(s.particles_.size(), begin + kPairGrain);
+  ks::ForceOutputs out{ax.data(),       ay.data(),    az.data(),
+                       heat.data(),     h_mid.data(), pair_w.data() + chunk_w[c],
+                       pair_mask.data()};
+  std::size_t w = 0, g = chunk_mask[c];
+  bool spilt = false;
+  for (std::size_t i = begin; i < end; ++i) {
+    if (!spilt && w + active_count[i] > chunk_room[c]) {
+      std::vector<double>& packed = packing.local();
+      std::size_t pairs = w;
+      for (std::size_t k = i; k < end; ++k) pairs += active_count[k];
+      if (packed.size() < pairs) packed.resize(pairs);
+      std::copy(out.pair_w, out.pair_w + w, packed.data());
+      out.pair_w = packed.data();
+      spilt = true;
+    }
+    w += ks::forces_particle<simd::Batch>(in, f, search.begin_of(i), active_count[i], i, out, w, g);
+    g += groups(active_count[i]);
+  }
+  chunk_w_count[c] = w;
+  if (spilt) {
+    // One past the weights, so that a spilt chunk is never empty (place_weights).
+    spill[c].reserve(w + 1);
+    spill[c].assign(out.pair_w, out.pair_w + w);
+    spill[c].push_back(0.0);
+  }
+  return spilt;
+}
+
+void SphSolver::Impl::forces() {
+  ParticleStore& P = s.particles_;
+  const std::size_t n = P.size();
+  const double* rho = P.col(Field::rho).data();
+  const double* sig[6];
+  for (int c = 0; c < 6; ++c) sig[c] = P.col(kStressOrder[c]).data();
+  const bool normalized = s.sph_.continuity == Continuity::normalized;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (int c = 0; c < 6; ++c) {
+                        for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                          a_stress[c][p] = normalized ? sig[c][p] : sig[c][p] / (rho[p] * rho[p]);
+                        }
+                      }
+                    });
+  if (mirrors) {
+    mirror_stress(n);
+    refresh_ghost_state();
+  }
+  const ks::PairInputs in = inputs();
+  ks::ForceInputs f;
+  for (int c = 0; c < 6; ++c) f.a_stress[c] = a_stress[c].data();
+  f.soundspeed = mirrors ? ec.data() : P.col(Field::soundspeed).data();
+  f.normalized = normalized;
+  f.viscosity.alpha = s.sph_.alpha;
+  f.viscosity.beta = s.sph_.beta;
+  if (switch_on) {
+    if (mirrors) mirror_scalar(alpha.data(), n);
+    f.alpha = alpha.data();
+  }
+  for (int d = 0; d < 3; ++d) f.gravity[d] = s.config_.gravity[d];
+  compact_lists(in);
+  const std::size_t chunks = chunk_mask.size() - 1;
+  // Chunks new since the last layout have no room: they spill, and the pass lays pair_w out anew.
+  chunk_w.resize(chunks, 0);
+  chunk_room.resize(chunks, 0);
+  chunk_w_count.resize(chunks);
+  spill.resize(chunks);
+  if (pair_w.empty()) pair_w.assign(1, 0.0);  // a valid pointer for the rates pass
+  std::atomic<bool> spilled{false};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t c = r.begin(); c < r.end(); ++c) {
+                        if (forces_chunk(c, in, f)) spilled.store(true, std::memory_order_relaxed);
+                      }
+                    });
+  if (spilled.load()) place_weights();
+  if (s.config_.self_gravity.self) add_self_gravity();
+  // The images' a^n, for the next kick's viscous heat (rates pass).
+  if (mirrors) mirror_vector(ax.data(), ay.data(), az.data(), n);
 }
 
 }  // namespace shatter::sph

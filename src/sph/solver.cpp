@@ -23,20 +23,17 @@ std::size_t SphSolver::bytes() const {
   const auto held = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   std::size_t b = I.search.bytes();
   for (const auto* v : {&I.h, &I.h_mid, &I.ax, &I.ay, &I.az, &I.heat, &I.ex, &I.ey, &I.ez, &I.evx,
-                        &I.evy, &I.evz, &I.em, &I.erho, &I.ec, &I.alpha, &I.rows8, &I.rows2}) {
+                        &I.evy, &I.evz, &I.em, &I.erho, &I.ec, &I.alpha, &I.rho_n}) {
     b += held(*v);
   }
   for (const auto* v : {&I.xb, &I.yb, &I.zb, &I.hb, &I.skin}) b += held(*v);
   for (const auto& v : I.a_stress) b += held(v);
   b += held(I.pair_w) + held(I.pair_mask) + held(I.chunk_w) + held(I.chunk_room) +
        held(I.chunk_w_count) + held(I.chunk_mask) + held(I.spill) + held(I.active_count) +
-       held(I.upper_at) + held(I.tile_order) + held(I.colour_start) + held(I.chunk_reach) +
-       held(I.busy) + held(I.order) + held(I.renumber) + held(I.ghosts) + held(I.kept_ghosts) +
-       held(I.leaving);
+       held(I.order) + held(I.renumber) + held(I.ghosts) + held(I.kept_ghosts) + held(I.leaving);
   for (const auto& v : I.rest) b += held(v);
   for (const auto& v : I.packing) b += held(v);
   for (const auto& v : I.spill) b += held(v);
-  for (const auto& v : I.busy) b += held(v);
   return b;
 }
 std::uint64_t SphSolver::neighbour_builds() const {

@@ -5,8 +5,7 @@
 //   mirrors.cpp    the mirror particles of the symmetry and slip faces, and the faces' effect on
 //                  the drift (reflection back, outflow)
 //   lists.cpp      smoothing lengths, the Verlet neighbour lists, the memory re-order (steps 5-6)
-//   passes.cpp     kick, the rates pass, material update, drift (steps 1-4)
-//   tiles.cpp      the pair passes' tiles and colours, the forces pass (step 6)
+//   passes.cpp     kick, the rates and forces gather passes, material update, drift (steps 1-4, 6)
 //   switch.cpp     the Morris & Monaghan viscosity switch's alpha per particle
 //   time_step.cpp  the energies at t^{n+1}, the next dt and the finite-state check (step 7)
 //   setup.cpp      the checks of the configuration and the store, and the first forces
@@ -23,7 +22,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
@@ -128,20 +126,7 @@ struct SphSolver::Impl {
   // lists are as a build or permute left them (ascending throughout); scratch per thread for the
   // re-arrangement.
   std::vector<std::uint32_t> active_count;
-  // Where the upper half of each compacted list begins (its entries j > i: pairs.hpp).
-  std::vector<std::uint32_t> upper_at;
   bool lists_sorted = false;
-  // The pair passes' tiles (tiles.cpp): the highest chunk of kPairGrain particles each chunk
-  // writes (chunk_reach), the colours' bits per tile (busy, the colouring's scratch), the tiles by
-  // colour (tile_order), where each colour starts in it (colour_start), and the chunks per tile.
-  std::vector<std::uint32_t> chunk_reach;
-  std::vector<std::vector<std::uint64_t>> busy;
-  std::vector<std::uint32_t> tile_order, colour_start;
-  std::size_t tile_chunks = 1;
-  // The pair passes' sums, a row per real particle (kernels/sph/pairs.hpp): the forces pass's
-  // acceleration and heating rate in rows8 (4 of 8), the rates pass's velocity gradient and kick
-  // heat in rows8 and rows2. Scratch between the passes.
-  AlignedVector<double> rows8, rows2;
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rest;
   // The pairs' viscous weights (viscous_heating_term), per chunk of kPairGrain particles (the
   // passes run over whole chunks): only the non-zero ones, a chunk's in particle and list order
@@ -157,10 +142,11 @@ struct SphSolver::Impl {
   std::vector<std::vector<double>> spill;
   std::array<AlignedVector<double>, 6> a_stress;  // sigma / rho^2
   // The Morris & Monaghan switch: alpha per particle (state: follows the particles through the
-  // re-order and the outflow; real then mirror entries).
+  // re-order and the outflow; real then mirror entries). The normalized continuity: a copy of
+  // rho^n for the rates pass.
   bool switch_on = false;
   ks::SwitchCoefficients switch_k;
-  AlignedVector<double> alpha;
+  AlignedVector<double> alpha, rho_n;
   std::vector<std::uint32_t> order;
   std::vector<StageTiming> timings;
   std::unique_ptr<gravity::SelfGravity> gravity;  // gravity.self only (sph/gravity.cpp)
@@ -179,24 +165,6 @@ struct SphSolver::Impl {
   std::vector<std::uint32_t> renumber;
 
   Impl(SphSolver& solver, int threads);
-
-  // f(c) for every chunk c: the colours one after the other, a colour's tiles in parallel, a
-  // tile's chunks in order.
-  template <class F>
-  void over_tiles(F&& f) {
-    const std::size_t chunks = chunk_reach.size();
-    for (std::size_t k = 0; k + 1 < colour_start.size(); ++k) {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(colour_start[k], colour_start[k + 1], 1),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t t = r.begin(); t < r.end(); ++t) {
-                            const std::size_t c0 = tile_order[t] * tile_chunks;
-                            for (std::size_t c = c0; c < std::min(chunks, c0 + tile_chunks); ++c) {
-                              f(c);
-                            }
-                          }
-                        });
-    }
-  }
 
   template <class F>
   void timed(Stage stage, F&& f) {
@@ -237,11 +205,7 @@ struct SphSolver::Impl {
   void rates(double dt, double dt_kick);
   void material(double dt);
   void drift(double dt);
-  // tiles.cpp
-  std::size_t compact_chunk(std::size_t c, const ks::PairInputs& in,
-                            std::vector<std::uint32_t>& scratch);
   void compact_lists(const ks::PairInputs& in);
-  void colour_tiles();
   void place_weights();
   bool forces_chunk(std::size_t c, const ks::PairInputs& in, const ks::ForceInputs& f);
   void forces();

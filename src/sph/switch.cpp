@@ -39,7 +39,7 @@ void SphSolver::Impl::evolve_switch(double dt) {
 }
 
 // After the store's permute(order): new particle k is old particle order[k], as in
-// ParticleStore::permute.
+// ParticleStore::permute (rho_n serves as the scratch copy).
 void SphSolver::Impl::permute_switch() {
   if (!switch_on) return;
   const std::size_t n = s.particles_.size();
