@@ -177,6 +177,7 @@ struct SphSolver::Impl {
   // mirrors.cpp
   double plane(std::size_t face) const;
   void make_ghosts(double hmax);
+  void size_ghost_columns(std::size_t m);
   void place_ghosts();
   void mirror_vector(double* vx, double* vy, double* vz, std::size_t n) const;
   void mirror_scalar(double* v, std::size_t n) const;
