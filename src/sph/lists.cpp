@@ -81,10 +81,7 @@ double SphSolver::Impl::particle_skins(double hmax, bool with_skin) {
 // the benchmark's cube against 4). Grown (its content dropped) where it is not.
 void SphSolver::Impl::lend_weights(std::size_t points) {
   const std::size_t need = NeighbourSearch::sort_doubles(points);
-  if (pair_w.size() < need) {
-    std::vector<double>().swap(pair_w);
-    pair_w.resize(need);
-  }
+  pair_w.grow_discarding(need);
   search.lend(pair_w);
 }
 
