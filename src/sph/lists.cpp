@@ -81,10 +81,7 @@ double SphSolver::Impl::particle_skins(double hmax, bool with_skin) {
 // the benchmark's cube against 4). Grown (its content dropped) where it is not.
 void SphSolver::Impl::lend_weights(std::size_t points) {
   const std::size_t need = NeighbourSearch::sort_doubles(points);
-  if (pair_w.size() < need) {
-    std::vector<double>().swap(pair_w);
-    pair_w.resize(need);
-  }
+  pair_w.grow_discarding(need);
   search.lend(pair_w);
 }
 
@@ -229,12 +226,7 @@ void SphSolver::Impl::permute_lists() {
   ghosts.swap(kept_ghosts);
   // The per-point arrays for these images (make_ghosts' sizes), their positions and h.
   if (mirrors) {
-    const std::size_t m = n + g;
-    for (auto* v : {&h, &h_mid, &ax, &ay, &az, &ex, &ey, &ez, &evx, &evy, &evz, &em, &erho, &ec}) {
-      v->resize(m);
-    }
-    if (switch_on) alpha.resize(m);
-    for (auto& v : a_stress) v.resize(m);
+    size_ghost_columns(n + g);
     place_ghosts();
   }
   // The lists as the last forces pass left them: the pairs within support first (active_count,

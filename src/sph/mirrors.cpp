@@ -45,13 +45,24 @@ void SphSolver::Impl::make_ghosts(double hmax) {
       }
     }
   }
-  const std::size_t m = n + ghosts.size();
-  for (auto* v : {&h, &h_mid, &ax, &ay, &az, &ex, &ey, &ez, &evx, &evy, &evz, &em, &erho, &ec}) {
-    v->resize(m);
-  }
-  if (switch_on) alpha.resize(m);
-  for (auto& v : a_stress) v.resize(m);
+  size_ghost_columns(n + ghosts.size());
   place_ghosts();
+}
+
+// The per-point arrays for n real particles and their images (m points in all). A column that
+// must grow takes m and a 32nd more: std::vector's resize would double it (the real particles'
+// columns, sized n, would take 2n for a few thousand images: ~5 MB of the laboratory impact's
+// heap peak), and the slack absorbs the image count's growth from build to build.
+void SphSolver::Impl::size_ghost_columns(std::size_t m) {
+  const auto grow = [m](AlignedVector<double>& v) {
+    if (v.capacity() < m) v.reserve(m + m / 32);
+    v.resize(m);
+  };
+  for (auto* v : {&h, &h_mid, &ax, &ay, &az, &ex, &ey, &ez, &evx, &evy, &evz, &em, &erho, &ec}) {
+    grow(*v);
+  }
+  if (switch_on) grow(alpha);
+  for (auto& v : a_stress) grow(v);
 }
 
 // Positions (the reflections of their sources' current positions) and h of the images.

@@ -4,6 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <tbb/parallel_for.h>
 
@@ -199,20 +204,45 @@ void SphSolver::Impl::compact_lists(const ks::PairInputs& in) {
 // A new layout of pair_w after a forces pass in which chunks found no room: each chunk's weights
 // (from its room, or from `spill` where it had none) at the start of a new room of an eighth
 // more than it needs (and 64), in chunk order. pair_w does not shrink (the search borrows it).
+// In place, so that no second array is live: pair_w grows (realloc, its content kept), then the
+// chunks that kept their weights in their rooms move, those moving down in chunk order and those
+// moving up in reverse order (old rooms and new rooms are each disjoint and in chunk order, so no
+// move overwrites weights not yet moved), and the spilt chunks' weights are copied in last.
 void SphSolver::Impl::place_weights() {
+  const std::size_t chunks = chunk_w.size();
+  std::vector<std::size_t> at(chunks);
   std::size_t total = 0;
-  for (const std::size_t w : chunk_w_count) total += w + w / 8 + 64;
-  std::vector<double> placed(std::max(total, pair_w.size()));
-  std::size_t at = 0;
-  for (std::size_t c = 0; c < chunk_w.size(); ++c) {
-    const double* from = spill[c].empty() ? pair_w.data() + chunk_w[c] : spill[c].data();
-    std::copy(from, from + chunk_w_count[c], placed.data() + at);
-    chunk_w[c] = at;
-    chunk_room[c] = chunk_w_count[c] + chunk_w_count[c] / 8 + 64;
-    at += chunk_room[c];
-    std::vector<double>().swap(spill[c]);
+  for (std::size_t c = 0; c < chunks; ++c) {
+    at[c] = total;
+    total += chunk_w_count[c] + chunk_w_count[c] / 8 + 64;
   }
-  pair_w.swap(placed);
+  pair_w.grow(total);
+  double* w = pair_w.data();
+  const auto move = [&](std::size_t c) {
+    if (spill[c].empty() && chunk_w_count[c] > 0) {
+      std::memmove(w + at[c], w + chunk_w[c], chunk_w_count[c] * sizeof(double));
+    }
+  };
+  for (std::size_t c = 0; c < chunks; ++c) {
+    if (at[c] <= chunk_w[c]) move(c);
+  }
+  for (std::size_t c = chunks; c-- > 0;) {
+    if (at[c] > chunk_w[c]) move(c);
+  }
+  for (std::size_t c = 0; c < chunks; ++c) {
+    if (!spill[c].empty()) std::copy_n(spill[c].data(), chunk_w_count[c], w + at[c]);
+    std::vector<double>().swap(spill[c]);
+    chunk_w[c] = at[c];
+    chunk_room[c] = chunk_w_count[c] + chunk_w_count[c] / 8 + 64;
+  }
+#if defined(__GLIBC__)
+  // The spilt weights just freed (up to all of them, at the first pass) leave free pages inside
+  // the heap that stay resident, and on 2 threads in a second malloc arena that the main
+  // thread's allocations do not reuse: hand them back (laboratory impact to 2 us on 2 threads:
+  // peak RSS 77.3 -> 75.3 MB; docs/performance.md, session 23: SPH, "Memory"). A re-layout
+  // comes every ~10 steps (23 in the 221 steps to 5 us); the trim's cost was not measurable.
+  malloc_trim(0);
+#endif
 }
 
 // The forces pass over chunk c's particles, their weights written straight into the chunk's room
@@ -288,7 +318,7 @@ void SphSolver::Impl::forces() {
   chunk_room.resize(chunks, 0);
   chunk_w_count.resize(chunks);
   spill.resize(chunks);
-  if (pair_w.empty()) pair_w.assign(1, 0.0);  // a valid pointer for the rates pass
+  pair_w.grow(1);  // a valid pointer for the rates pass
   std::atomic<bool> spilled{false};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {

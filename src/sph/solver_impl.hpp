@@ -28,6 +28,7 @@
 #include "shatter/gravity/self_gravity.hpp"
 #include "shatter/sph/solver.hpp"
 #include "sph/gather.hpp"
+#include "sph/weight_buffer.hpp"
 
 namespace shatter::sph {
 
@@ -134,9 +135,9 @@ struct SphSolver::Impl {
   // byte per group of the SIMD width of list entries saying which are there, a chunk's from
   // pair_mask[chunk_mask[c]] on. A chunk that outgrows its room moves its weights to a
   // per-thread buffer (`packing`) and keeps them in `spill` until the pass has ended, when
-  // pair_w is laid out anew (place_weights).
+  // pair_w is laid out anew, in place (place_weights).
   std::vector<std::size_t> chunk_w, chunk_room, chunk_w_count, chunk_mask;
-  std::vector<double> pair_w;
+  WeightBuffer pair_w;
   std::vector<std::uint8_t> pair_mask;
   tbb::enumerable_thread_specific<std::vector<double>> packing;
   std::vector<std::vector<double>> spill;
@@ -177,6 +178,7 @@ struct SphSolver::Impl {
   // mirrors.cpp
   double plane(std::size_t face) const;
   void make_ghosts(double hmax);
+  void size_ghost_columns(std::size_t m);
   void place_ghosts();
   void mirror_vector(double* vx, double* vy, double* vz, std::size_t n) const;
   void mirror_scalar(double* v, std::size_t n) const;
