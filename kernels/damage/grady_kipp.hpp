@@ -92,6 +92,31 @@ struct GradyKipp {
     return simd::any((eps_hi >= st.eps_min) && (st.eps_min > T(0.0)));
   }
 
+  // Eq. 17: n_act = min((eps_eff / eps_min)^m_p, n_f) in the active lanes, 0 elsewhere; with no
+  // lane active the exp and log are not evaluated (kAllWork = false): the select gives +0 in
+  // every lane whatever they return.
+  template <class T, bool kAllWork, class Mask>
+  static T active_flaws(const T& eps_eff, const DamageState<T>& st, const Mask& active) {
+    if (!kAllWork && !simd::any(active)) return T(0.0);
+    const T ratio = xsimd::max(eps_eff / simd::vselect(active, st.eps_min, T(1.0)), T(1.0));
+    const T n_weibull = xsimd::exp(st.weibull_m * lanes::log(ratio));
+    return simd::vselect(active, xsimd::min(n_weibull, st.n_flaws), T(0.0));
+  }
+
+  // Whether Eq. 19 and BA95 Eq. 22 leave every lane's D where
+  // max(D^n, min(q, 1)), q = n_act / max(n_f, 1), puts it: where D^n >= 1, d_new =
+  // max(D^n, min(..., 1)) is D^n whatever the increment (xsimd's min returns its second
+  // operand, 1, for a NaN first one; the scalar min keeps the NaN, which max then drops), and so
+  // is max(D^n, min(q, 1)); where n_act = 0 and D^n >= 0, the cap cbrt(q) is q (cbrt(+-0) =
+  // +-0) and, the root being >= 0 or NaN, min(root^3, q) is q in the lanes (the scalar path:
+  // q, or a zero or NaN that max(D^n, .) drops as it drops q), so d_new = max(D^n, min(q, 1)).
+  // (n_f is not NaN there: the scalar max(n_f, 1) would keep it, and q with it.)
+  template <class T>
+  static bool settled(const T& d_old, const T& n_act, const T& n_flaws) {
+    const auto idle = (n_act == 0.0) && (d_old >= 0.0) && !xsimd::isnan(n_flaws);
+    return !simd::any(!((d_old >= 1.0) || idle));
+  }
+
   // Eqs. 17-19 and BA95 Eq. 22 in every lane; m = matrix(in, st.damage). kAllWork = true
   // evaluates every term in every batch (the reference of the tests; the same bits).
   template <class T, bool kAllWork = false>
@@ -101,15 +126,13 @@ struct GradyKipp {
     // Eq. 17; no flaw is active below the weakest threshold (BA95 Sec. 4.3), and at most the
     // n_f flaws the particle holds can be.
     const auto active = (eps_eff >= st.eps_min) && (st.eps_min > T(0.0));
-    const T ratio = xsimd::max(eps_eff / simd::vselect(active, st.eps_min, T(1.0)), T(1.0));
-    const T n_weibull = xsimd::exp(st.weibull_m * lanes::log(ratio));
-    const T n_act = simd::vselect(active, xsimd::min(n_weibull, st.n_flaws), T(0.0));
+    const T n_act = active_flaws<T, kAllWork>(eps_eff, st, active);
     st.n_active = n_act;
-    if (!kAllWork && !simd::any(!(d_old >= 1.0))) {
-      // Every lane fully damaged: d_new = max(d_old, min(..., 1)) below is d_old whatever the
-      // increment (min returns its second operand, 1, for a NaN first one), so the three cbrt
-      // and the division are not evaluated. Same bits.
-      return d_old;
+    if (!kAllWork && settled(d_old, n_act, st.n_flaws)) {
+      // Every lane fully damaged or without an active flaw: Eq. 19's increment cannot move D
+      // (below), so the three cbrt are not evaluated. Same bits.
+      st.damage = xsimd::max(d_old, xsimd::min(n_act / xsimd::max(st.n_flaws, T(1.0)), T(1.0)));
+      return st.damage;
     }
     // Eq. 19 integrated over dt in D^(1/3).
     const T radius =
