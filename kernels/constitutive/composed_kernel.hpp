@@ -35,7 +35,6 @@
 #include <cstddef>
 #include <numbers>
 #include <string_view>
-#include <utility>
 
 #include "constitutive/artificial_viscosity.hpp"
 #include "constitutive/simd.hpp"
@@ -143,37 +142,13 @@ class ComposedKernel {
 
   // Updates particles [begin, end): batches of simd::kWidth, then a scalar tail. With
   // use_simd = false every particle takes the scalar path (reference and benchmark baseline).
-  // The chunk's optional columns are tested once here: where they are the model's own
-  // (columns_declared), the loop is the one instantiated for them (Cols::declared).
   void update(const ConstitutiveColumns& c, std::size_t begin, std::size_t end,
               const StepParams& sp, bool use_simd = true) const {
-    if (columns_declared(c)) {
-      update_with<Cols::declared>(c, begin, end, sp, use_simd);
-    } else {
-      update_with<Cols::tested>(c, begin, end, sp, use_simd);
+    std::size_t p = begin;
+    if (use_simd) {
+      for (; p + simd::kWidth <= end; p += simd::kWidth) step<simd::Batch>(c, p, sp);
     }
-  }
-
-  // How step() finds the optional columns (plastic strain, heat, mass, the damage columns):
-  // `declared`, present exactly where the model's field set declares them (known at compile
-  // time: no null test per batch); `tested`, each pointer tested for null (any other set, as
-  // unit tests pass). The same arithmetic either way.
-  enum class Cols { tested, declared };
-
-  static constexpr FieldSet kDeclared = Strength::kFields | Damage::kFields;
-  static constexpr bool kHasPlastic = kDeclared.has(Field::plastic_strain);
-  static constexpr bool kHasHeat = kDeclared.has(Field::heat);
-  static constexpr bool kHasDamage[6] = {
-      kDeclared.has(Field::damage),    kDeclared.has(Field::eps_min),
-      kDeclared.has(Field::eps_max),   kDeclared.has(Field::n_flaws),
-      kDeclared.has(Field::weibull_m), kDeclared.has(Field::n_active)};
-
-  // Whether c's optional columns are exactly the declared ones (mass present where damage is
-  // on: Eq. 19's volume).
-  static bool columns_declared(const ConstitutiveColumns& c) {
-    bool ok = (c.plastic_strain != nullptr) == kHasPlastic && (c.heat != nullptr) == kHasHeat;
-    for (int k = 0; k < 6; ++k) ok = ok && (c.damage_state[k] != nullptr) == kHasDamage[k];
-    return ok && (!Damage::kEnabled || c.mass != nullptr);
+    for (; p < end; ++p) step<double>(c, p, sp);
   }
 
   // Consistent initial state: p and c from (rho, E), effective stress from the stored deviator
@@ -261,14 +236,14 @@ class ComposedKernel {
     T sb[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};  // borne (incremental)
   };
 
-  template <class T, Cols K = Cols::tested>
+  template <class T>
   void step(const ConstitutiveColumns& c, std::size_t p, const StepParams& sp) const {
     Point<T> pt;
-    trial_stage<T, K>(c, p, pt);
+    trial_stage(c, p, pt);
     const auto st_eos = eos_stage(c, p, pt);
     pt.m = strength_.elastic.modulus_scale(pt.rho, st_eos.c2);
     deviator_trial(pt);
-    strength::PlasticState<T> ps = plastic_stage<T, K>(c, p, pt, st_eos);
+    strength::PlasticState<T> ps = plastic_stage(c, p, pt, st_eos);
     const T pres = ps.p;
 
     // Eq. 13 of the intact material: the crack speed c_g = 0.4 c_p of Eq. 19 is that of a crack
@@ -289,7 +264,7 @@ class ComposedKernel {
     const auto av = artificial_viscosity(pt.tr, inv_dt, sp.cell_size, pt.rho, c_visc, sp.c_linear,
                                          sp.c_quadratic);
 
-    const T dmg = damage_stage<T, K>(c, p, pt, ps, cp, sp);
+    const T dmg = damage_stage(c, p, pt, ps, cp, sp);
     stress_stage(c, p, pt, pres, av.q, dmg);
     if constexpr (Porosity::kEnabled) book_compaction(c, p, pt);
 
@@ -301,48 +276,14 @@ class ComposedKernel {
                                           : cp;
     simd::store_col(c.pressure + p, pres);
     simd::store_col(c.soundspeed + p, cp_damaged + av.speed);
-    store_opt<K, kHasPlastic>(c.plastic_strain, p, ps.eps_p);
-    store_opt<K, kHasHeat>(c.heat, p, ps.heat);
+    simd::store_if(ptr(c.plastic_strain, p), ps.eps_p);
+    simd::store_if(ptr(c.heat, p), ps.heat);
   }
 
  private:
-  template <Cols K>
-  void update_with(const ConstitutiveColumns& c, std::size_t begin, std::size_t end,
-                   const StepParams& sp, bool use_simd) const {
-    std::size_t p = begin;
-    if (use_simd) {
-      for (; p + simd::kWidth <= end; p += simd::kWidth) step<simd::Batch, K>(c, p, sp);
-    }
-    for (; p < end; ++p) step<double, K>(c, p, sp);
-  }
-
-  // An optional column of step(): with Cols::declared, kHas (the model's declaration) says
-  // whether it is there; with Cols::tested, its pointer does.
-  template <class T, Cols K, bool kHas>
-  static T load_opt(const double* base, std::size_t p, double fallback) {
-    if constexpr (K == Cols::tested) {
-      return simd::load_or<T>(ptr(base, p), fallback);
-    } else if constexpr (kHas) {
-      return simd::load_col<T>(base + p);
-    } else {
-      (void)base, (void)p;
-      return T(fallback);
-    }
-  }
-  template <Cols K, bool kHas, class T>
-  static void store_opt(double* base, std::size_t p, const T& v) {
-    if constexpr (K == Cols::tested) {
-      simd::store_if(ptr(base, p), v);
-    } else if constexpr (kHas) {
-      simd::store_col(base + p, v);
-    } else {
-      (void)base, (void)p, (void)v;
-    }
-  }
-
   // Loads the point (and the borne deviator sb); 2. energy predictor. The elastic trial (1.)
   // follows the EOS stage (deviator_trial), where the point's moduli are known.
-  template <class T, Cols K>
+  template <class T>
   void trial_stage(const ConstitutiveColumns& c, std::size_t p, Point<T>& pt) const {
     using simd::load_col;
     pt.rho = load_col<T>(c.rho + p);
@@ -355,7 +296,7 @@ class ComposedKernel {
     if constexpr (Porosity::kEnabled && !Damage::kEnabled) {
       to_matrix(pt.s, simd::load_col<T>(c.distension + p));
     }
-    pt.d_old = load_opt<T, K, kHasDamage[0]>(c.damage_state[0], p, 0.0);
+    pt.d_old = simd::load_or<T>(ptr(c.damage_state[0], p), 0.0);
 
     // With incremental coupling the deviator the particle bears, sb (that of the stress
     // columns: q and p are isotropic), gets its own trial (deviator_trial); loaded here, with
@@ -427,12 +368,12 @@ class ComposedKernel {
   }
 
   // 4. Plastic return of the strength model (App. B).
-  template <class T, Cols K>
+  template <class T>
   strength::PlasticState<T> plastic_stage(const ConstitutiveColumns& c, std::size_t p, Point<T>& pt,
                                           const eos::EosPoint<T>& st_eos) const {
     strength::PlasticState<T> ps{st_eos.p,
-                                 load_opt<T, K, kHasPlastic>(c.plastic_strain, p, 0.0),
-                                 load_opt<T, K, kHasHeat>(c.heat, p, 0.0),
+                                 simd::load_or<T>(ptr(c.plastic_strain, p), 0.0),
+                                 simd::load_or<T>(ptr(c.heat, p), 0.0),
                                  with_compaction(pt.d_old, pt.d_c),
                                  pt.rho,
                                  pt.e_trial,
@@ -460,7 +401,7 @@ class ComposedKernel {
   // of the incremental coupling (DamageCoupling::incremental).
   // The volume is that of the matrix, m / (alpha rho): a porous body's flaws are per unit
   // volume of solid (JBM08 Sec. 3.3); without porosity alpha = 1 and the division is not made.
-  template <class T, Cols K>
+  template <class T>
   T damage_stage(const ConstitutiveColumns& c, std::size_t p, const Point<T>& pt,
                  const strength::PlasticState<T>& ps, const T& cp, const StepParams& sp) const {
     if constexpr (Damage::kEnabled) {
@@ -469,7 +410,7 @@ class ComposedKernel {
       for (int k = 0; k < 3; ++k) in.s[k] = in.s[k] - ps.p;
       in.young = T(strength_.elastic.young) * pt.m;  // E_Y m: the point's Young's modulus
       in.soundspeed = cp;
-      in.volume = load_opt<T, K, true>(c.mass, p, 0.0) / pt.rho;
+      in.volume = simd::load_or<T>(ptr(c.mass, p), 0.0) / pt.rho;
       if constexpr (Porosity::kEnabled) in.volume = in.volume / pt.alpha;
       if (c.ring_radius != nullptr) {
         // r-z: the point is a ring V = 2 pi r A; its flaws are those of one 3-D point of its
@@ -483,28 +424,16 @@ class ComposedKernel {
       damage::DamageState<T> ds;
       T* fields[6] = {&ds.damage,  &ds.eps_min,   &ds.eps_max,
                       &ds.n_flaws, &ds.weibull_m, &ds.n_active};
-      load_damage<T, K>(c, p, fields, std::make_index_sequence<6>{});
+      for (int k = 0; k < 6; ++k) *fields[k] = simd::load_or<T>(ptr(c.damage_state[k], p), 0.0);
       const T dmg = damage_.evolve(in, ds);
       ds.damage = dmg;
-      store_damage<T, K>(c, p, fields, std::make_index_sequence<6>{});
+      for (int k = 0; k < 6; ++k) simd::store_if(ptr(c.damage_state[k], p), *fields[k]);
       for (int k = 0; k < 6; ++k) simd::store_col(c.sdev[k] + p, pt.s[k]);
       return dmg;
     } else {
       (void)c, (void)p, (void)pt, (void)ps, (void)cp, (void)sp;
       return T(0.0);
     }
-  }
-
-  // The damage columns (DamageState's fields in ConstitutiveColumns::damage_state's order).
-  template <class T, Cols K, std::size_t... I>
-  static void load_damage(const ConstitutiveColumns& c, std::size_t p, T* const (&f)[6],
-                          std::index_sequence<I...>) {
-    ((*f[I] = load_opt<T, K, kHasDamage[I]>(c.damage_state[I], p, 0.0)), ...);
-  }
-  template <class T, Cols K, std::size_t... I>
-  static void store_damage(const ConstitutiveColumns& c, std::size_t p, T* const (&f)[6],
-                           std::index_sequence<I...>) {
-    (store_opt<K, kHasDamage[I]>(c.damage_state[I], p, *f[I]), ...);
   }
 
   // 7. Effective stress (Eq. 14) with the viscous pressure; lagged coupling applies D^n, the
