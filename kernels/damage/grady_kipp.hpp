@@ -117,10 +117,48 @@ struct GradyKipp {
     return !simd::any(!((d_old >= 1.0) || idle));
   }
 
+  // Whether bounds of the largest principal value decide every lane without the Jacobi sweeps;
+  // then st holds what evolve_full would give, bit for bit. Bounds: lo = max_i s_ii (Rayleigh)
+  // and Gershgorin's hi (may_activate), each widened by 1e-6 of the tensor's absolute sum,
+  // far beyond the sweeps' round-off (7 eps ||s||); Eq. 18's strain is non-decreasing in the
+  // principal value under rounding (each operation is), so eps(lo) <= eps_eff <= eps(hi). A lane
+  // is idle where eps(hi) < eps_min or eps_min <= 0 (n_act = 0, Eq. 17), saturated where
+  // eps(lo) >= eps_min > 0, m_p > 0 and (eps(lo) / eps_min)^m_p >= n_f (1 + 1e-6): the full
+  // path's (eps_eff / eps_min)^m_p is then >= n_f (exp and log err by ulps, not 1e-6), and
+  // n_act = min(., n_f) = n_f. Decided: idle lanes with D^n >= 0 (settled, below) and fully
+  // damaged lanes either idle or saturated, whose D stays (settled). Where a fully damaged batch
+  // is in tension well beyond its flaws' thresholds, or in compression, no sweep is made.
+  template <class T>
+  bool decided_by_bounds(const DamageInput<T>& in, DamageState<T>& st, const Matrix<T>& m) const {
+    const T a3 = simd::vabs(in.s[3]), a4 = simd::vabs(in.s[4]), a5 = simd::vabs(in.s[5]);
+    const T size =
+        simd::vabs(in.s[0]) + simd::vabs(in.s[1]) + simd::vabs(in.s[2]) + T(2.0) * (a3 + a4 + a5);
+    const T rows = xsimd::max(in.s[0] + a3 + a5, xsimd::max(in.s[1] + a3 + a4, in.s[2] + a4 + a5));
+    const T diag = xsimd::max(in.s[0], xsimd::max(in.s[1], in.s[2]));
+    const T eps_hi = strain(in, m, rows + T(1.0e-6) * size);
+    const T eps_lo = strain(in, m, diag - T(1.0e-6) * size);
+    const T d_old = st.damage;
+    const auto armed = st.eps_min > 0.0;
+    const auto sane = in.young > 0.0;  // (the strain's monotony: E_Y > 0)
+    const auto idle = sane && (!armed || (eps_hi < st.eps_min));
+    const auto failed = d_old >= 1.0;
+    const auto may_saturate = sane && armed && (eps_lo >= st.eps_min) && (st.weibull_m > 0.0);
+    const auto idle_ok = idle && (d_old >= 0.0) && !xsimd::isnan(st.n_flaws);
+    if (simd::any(!((failed && (idle || may_saturate)) || idle_ok))) return false;
+    const T n_lo = xsimd::exp(st.weibull_m * lanes::log(eps_lo / st.eps_min));
+    const auto saturated = may_saturate && (n_lo >= st.n_flaws * (1.0 + 1.0e-6));
+    if (simd::any(!((failed && (idle || saturated)) || idle_ok))) return false;
+    // idle and saturated exclude each other (eps(lo) <= eps(hi)).
+    st.n_active = simd::vselect(saturated, st.n_flaws, T(0.0));
+    st.damage = xsimd::max(d_old, xsimd::min(st.n_active / xsimd::max(st.n_flaws, T(1.0)), T(1.0)));
+    return true;
+  }
+
   // Eqs. 17-19 and BA95 Eq. 22 in every lane; m = matrix(in, st.damage). kAllWork = true
   // evaluates every term in every batch (the reference of the tests; the same bits).
   template <class T, bool kAllWork = false>
   T evolve_full(const DamageInput<T>& in, DamageState<T>& st, const Matrix<T>& m) const {
+    if (!kAllWork && decided_by_bounds(in, st, m)) return st.damage;
     const T d_old = st.damage;
     const T eps_eff = strain(in, m, principal_values<T, kAllWork>(in.s).s1);
     // Eq. 17; no flaw is active below the weakest threshold (BA95 Sec. 4.3), and at most the
