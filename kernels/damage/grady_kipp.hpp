@@ -84,12 +84,22 @@ struct GradyKipp {
   // batch declared inactive here is one the full path finds inactive in every lane.
   template <class T>
   bool may_activate(const DamageInput<T>& in, const DamageState<T>& st, const Matrix<T>& m) const {
+    const Gershgorin<T> g = gershgorin(in);
+    const T eps_hi = strain(in, m, g.rows + T(1.0e-6) * g.size);
+    return simd::any((eps_hi >= st.eps_min) && (st.eps_min > T(0.0)));
+  }
+  // Gershgorin's bound on the largest principal value of s and the tensor's absolute sum.
+  template <class T>
+  struct Gershgorin {
+    T rows, size;
+  };
+  template <class T>
+  static Gershgorin<T> gershgorin(const DamageInput<T>& in) {
     const T a3 = simd::vabs(in.s[3]), a4 = simd::vabs(in.s[4]), a5 = simd::vabs(in.s[5]);
     const T rows = xsimd::max(in.s[0] + a3 + a5, xsimd::max(in.s[1] + a3 + a4, in.s[2] + a4 + a5));
     const T size =
         simd::vabs(in.s[0]) + simd::vabs(in.s[1]) + simd::vabs(in.s[2]) + T(2.0) * (a3 + a4 + a5);
-    const T eps_hi = strain(in, m, rows + T(1.0e-6) * size);
-    return simd::any((eps_hi >= st.eps_min) && (st.eps_min > T(0.0)));
+    return {rows, size};
   }
 
   // Eq. 17: n_act = min((eps_eff / eps_min)^m_p, n_f) in the active lanes, 0 elsewhere; with no
@@ -130,13 +140,10 @@ struct GradyKipp {
   // is in tension well beyond its flaws' thresholds, or in compression, no sweep is made.
   template <class T>
   bool decided_by_bounds(const DamageInput<T>& in, DamageState<T>& st, const Matrix<T>& m) const {
-    const T a3 = simd::vabs(in.s[3]), a4 = simd::vabs(in.s[4]), a5 = simd::vabs(in.s[5]);
-    const T size =
-        simd::vabs(in.s[0]) + simd::vabs(in.s[1]) + simd::vabs(in.s[2]) + T(2.0) * (a3 + a4 + a5);
-    const T rows = xsimd::max(in.s[0] + a3 + a5, xsimd::max(in.s[1] + a3 + a4, in.s[2] + a4 + a5));
+    const Gershgorin<T> g = gershgorin(in);
     const T diag = xsimd::max(in.s[0], xsimd::max(in.s[1], in.s[2]));
-    const T eps_hi = strain(in, m, rows + T(1.0e-6) * size);
-    const T eps_lo = strain(in, m, diag - T(1.0e-6) * size);
+    const T eps_hi = strain(in, m, g.rows + T(1.0e-6) * g.size);
+    const T eps_lo = strain(in, m, diag - T(1.0e-6) * g.size);
     const T d_old = st.damage;
     const auto armed = st.eps_min > 0.0;
     const auto sane = in.young > 0.0;  // (the strain's monotony: E_Y > 0)
