@@ -84,32 +84,100 @@ struct GradyKipp {
   // batch declared inactive here is one the full path finds inactive in every lane.
   template <class T>
   bool may_activate(const DamageInput<T>& in, const DamageState<T>& st, const Matrix<T>& m) const {
+    const Gershgorin<T> g = gershgorin(in);
+    const T eps_hi = strain(in, m, g.rows + T(1.0e-6) * g.size);
+    return simd::any((eps_hi >= st.eps_min) && (st.eps_min > T(0.0)));
+  }
+  // Gershgorin's bound on the largest principal value of s and the tensor's absolute sum.
+  template <class T>
+  struct Gershgorin {
+    T rows, size;
+  };
+  template <class T>
+  static Gershgorin<T> gershgorin(const DamageInput<T>& in) {
     const T a3 = simd::vabs(in.s[3]), a4 = simd::vabs(in.s[4]), a5 = simd::vabs(in.s[5]);
     const T rows = xsimd::max(in.s[0] + a3 + a5, xsimd::max(in.s[1] + a3 + a4, in.s[2] + a4 + a5));
     const T size =
         simd::vabs(in.s[0]) + simd::vabs(in.s[1]) + simd::vabs(in.s[2]) + T(2.0) * (a3 + a4 + a5);
-    const T eps_hi = strain(in, m, rows + T(1.0e-6) * size);
-    return simd::any((eps_hi >= st.eps_min) && (st.eps_min > T(0.0)));
+    return {rows, size};
+  }
+
+  // Eq. 17: n_act = min((eps_eff / eps_min)^m_p, n_f) in the active lanes, 0 elsewhere; with no
+  // lane active the exp and log are not evaluated (kAllWork = false): the select gives +0 in
+  // every lane whatever they return.
+  template <class T, bool kAllWork, class Mask>
+  static T active_flaws(const T& eps_eff, const DamageState<T>& st, const Mask& active) {
+    if (!kAllWork && !simd::any(active)) return T(0.0);
+    const T ratio = xsimd::max(eps_eff / simd::vselect(active, st.eps_min, T(1.0)), T(1.0));
+    const T n_weibull = xsimd::exp(st.weibull_m * lanes::log(ratio));
+    return simd::vselect(active, xsimd::min(n_weibull, st.n_flaws), T(0.0));
+  }
+
+  // Whether Eq. 19 and BA95 Eq. 22 leave every lane's D where
+  // max(D^n, min(q, 1)), q = n_act / max(n_f, 1), puts it: where D^n >= 1, d_new =
+  // max(D^n, min(..., 1)) is D^n whatever the increment (xsimd's min returns its second
+  // operand, 1, for a NaN first one; the scalar min keeps the NaN, which max then drops), and so
+  // is max(D^n, min(q, 1)); where n_act = 0 and D^n >= 0, the cap cbrt(q) is q (cbrt(+-0) =
+  // +-0) and, the root being >= 0 or NaN, min(root^3, q) is q in the lanes (the scalar path:
+  // q, or a zero or NaN that max(D^n, .) drops as it drops q), so d_new = max(D^n, min(q, 1)).
+  // (n_f is not NaN there: the scalar max(n_f, 1) would keep it, and q with it.)
+  template <class T>
+  static bool settled(const T& d_old, const T& n_act, const T& n_flaws) {
+    const auto idle = (n_act == 0.0) && (d_old >= 0.0) && !xsimd::isnan(n_flaws);
+    return !simd::any(!((d_old >= 1.0) || idle));
+  }
+
+  // Whether bounds of the largest principal value decide every lane without the Jacobi sweeps;
+  // then st holds what evolve_full would give, bit for bit. Bounds: lo = max_i s_ii (Rayleigh)
+  // and Gershgorin's hi (may_activate), each widened by 1e-6 of the tensor's absolute sum,
+  // far beyond the sweeps' round-off (7 eps ||s||); Eq. 18's strain is non-decreasing in the
+  // principal value under rounding (each operation is), so eps(lo) <= eps_eff <= eps(hi). A lane
+  // is idle where eps(hi) < eps_min or eps_min <= 0 (n_act = 0, Eq. 17), saturated where
+  // eps(lo) >= eps_min > 0, m_p > 0 and (eps(lo) / eps_min)^m_p >= n_f (1 + 1e-6): the full
+  // path's (eps_eff / eps_min)^m_p is then >= n_f (exp and log err by ulps, not 1e-6), and
+  // n_act = min(., n_f) = n_f. Decided: idle lanes with D^n >= 0 (settled, below) and fully
+  // damaged lanes either idle or saturated, whose D stays (settled). Where a fully damaged batch
+  // is in tension well beyond its flaws' thresholds, or in compression, no sweep is made.
+  template <class T>
+  bool decided_by_bounds(const DamageInput<T>& in, DamageState<T>& st, const Matrix<T>& m) const {
+    const Gershgorin<T> g = gershgorin(in);
+    const T diag = xsimd::max(in.s[0], xsimd::max(in.s[1], in.s[2]));
+    const T eps_hi = strain(in, m, g.rows + T(1.0e-6) * g.size);
+    const T eps_lo = strain(in, m, diag - T(1.0e-6) * g.size);
+    const T d_old = st.damage;
+    const auto armed = st.eps_min > 0.0;
+    const auto sane = in.young > 0.0;  // (the strain's monotony: E_Y > 0)
+    const auto idle = sane && (!armed || (eps_hi < st.eps_min));
+    const auto failed = d_old >= 1.0;
+    const auto may_saturate = sane && armed && (eps_lo >= st.eps_min) && (st.weibull_m > 0.0);
+    const auto idle_ok = idle && (d_old >= 0.0) && !xsimd::isnan(st.n_flaws);
+    if (simd::any(!((failed && (idle || may_saturate)) || idle_ok))) return false;
+    const T n_lo = xsimd::exp(st.weibull_m * lanes::log(eps_lo / st.eps_min));
+    const auto saturated = may_saturate && (n_lo >= st.n_flaws * (1.0 + 1.0e-6));
+    if (simd::any(!((failed && (idle || saturated)) || idle_ok))) return false;
+    // idle and saturated exclude each other (eps(lo) <= eps(hi)).
+    st.n_active = simd::vselect(saturated, st.n_flaws, T(0.0));
+    st.damage = xsimd::max(d_old, xsimd::min(st.n_active / xsimd::max(st.n_flaws, T(1.0)), T(1.0)));
+    return true;
   }
 
   // Eqs. 17-19 and BA95 Eq. 22 in every lane; m = matrix(in, st.damage). kAllWork = true
   // evaluates every term in every batch (the reference of the tests; the same bits).
   template <class T, bool kAllWork = false>
   T evolve_full(const DamageInput<T>& in, DamageState<T>& st, const Matrix<T>& m) const {
+    if (!kAllWork && decided_by_bounds(in, st, m)) return st.damage;
     const T d_old = st.damage;
     const T eps_eff = strain(in, m, principal_values<T, kAllWork>(in.s).s1);
     // Eq. 17; no flaw is active below the weakest threshold (BA95 Sec. 4.3), and at most the
     // n_f flaws the particle holds can be.
     const auto active = (eps_eff >= st.eps_min) && (st.eps_min > T(0.0));
-    const T ratio = xsimd::max(eps_eff / simd::vselect(active, st.eps_min, T(1.0)), T(1.0));
-    const T n_weibull = xsimd::exp(st.weibull_m * lanes::log(ratio));
-    const T n_act = simd::vselect(active, xsimd::min(n_weibull, st.n_flaws), T(0.0));
+    const T n_act = active_flaws<T, kAllWork>(eps_eff, st, active);
     st.n_active = n_act;
-    if (!kAllWork && !simd::any(!(d_old >= 1.0))) {
-      // Every lane fully damaged: d_new = max(d_old, min(..., 1)) below is d_old whatever the
-      // increment (min returns its second operand, 1, for a NaN first one), so the three cbrt
-      // and the division are not evaluated. Same bits.
-      return d_old;
+    if (!kAllWork && settled(d_old, n_act, st.n_flaws)) {
+      // Every lane fully damaged or without an active flaw: Eq. 19's increment cannot move D
+      // (below), so the three cbrt are not evaluated. Same bits.
+      st.damage = xsimd::max(d_old, xsimd::min(n_act / xsimd::max(st.n_flaws, T(1.0)), T(1.0)));
+      return st.damage;
     }
     // Eq. 19 integrated over dt in D^(1/3).
     const T radius =

@@ -73,21 +73,28 @@ inline bool diagonal_settled(const T& a00, const T& a11, const T& a22, const T& 
 
 }  // namespace detail
 
-// s in Voigt order xx, yy, zz, xy, yz, xz. After the first sweep, the sweeps stop once no
-// later one can change the diagonal (detail::diagonal_settled): the same bits as four sweeps
-// (kAllSweeps = true runs all four, the reference the tests compare with). sweeps, if given,
-// receives the number of sweeps made.
+// s in Voigt order xx, yy, zz, xy, yz, xz. After the first sweep, the rotations stop once no
+// later one can change the diagonal (detail::diagonal_settled, tested after every rotation:
+// its argument holds for whatever rotations follow): the same bits as four sweeps
+// (kAllSweeps = true runs all twelve rotations, the reference the tests compare with).
+// rotations, if given, receives the number of rotations made.
 template <class T, bool kAllSweeps = false>
-inline PrincipalValues<T> principal_values(const T (&s)[6], int* sweeps = nullptr) {
+inline PrincipalValues<T> principal_values(const T (&s)[6], int* rotations = nullptr) {
   T a00 = s[0], a11 = s[1], a22 = s[2], a01 = s[3], a12 = s[4], a02 = s[5];
-  int sweep = 0;
-  for (; sweep < 4; ++sweep) {
-    if (!kAllSweeps && sweep >= 1 && detail::diagonal_settled(a00, a11, a22, a01, a02, a12)) break;
+  int done = 0;
+  const auto settled = [&] {
+    return !kAllSweeps && done >= 3 && detail::diagonal_settled(a00, a11, a22, a01, a02, a12);
+  };
+  while (done < 12) {
+    if (settled()) break;
     detail::jacobi_rotate(a00, a11, a01, a02, a12);  // (0,1), third index 2
+    if (++done >= 4 && settled()) break;
     detail::jacobi_rotate(a00, a22, a02, a01, a12);  // (0,2), third index 1
+    if (++done >= 5 && settled()) break;
     detail::jacobi_rotate(a11, a22, a12, a01, a02);  // (1,2), third index 0
+    ++done;
   }
-  if (sweeps != nullptr) *sweeps = sweep;
+  if (rotations != nullptr) *rotations = done;
   const T hi = xsimd::max(a00, xsimd::max(a11, a22));
   const T lo = xsimd::min(a00, xsimd::min(a11, a22));
   const T mid = xsimd::max(xsimd::min(a00, a11), xsimd::min(xsimd::max(a00, a11), a22));

@@ -314,14 +314,15 @@ TEST(GradyKipp, BatchesBelowEveryThresholdKeepTheFullPathsBits) {
 
 TEST(GradyKipp, FullyDamagedBatchesKeepTheFullPathsBits) {
   // evolve_full skips Eq. 19 and BA95 Eq. 22 (three cbrt) in a batch whose lanes all have
-  // D = 1, and the Jacobi sweeps stop once settled (principal.hpp): every lane's D and n_act
+  // D = 1, the Jacobi sweeps where bounds decide every lane (decided_by_bounds), and the sweeps
+  // stop once settled (principal.hpp): every lane's D and n_act
   // must be those of the path that does all the work (kAllWork). Half the batches are fully
   // damaged; the others hold 0-7 undamaged lanes in tension (whose D grows) among failed ones.
   // Bound: bitwise equality; the counts show both kinds of batch and growing damage.
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const GradyKipp gk{};
-  int failed = 0, mixed = 0, grown = 0;
+  int failed = 0, mixed = 0, grown = 0, decided = 0, swept = 0;
   for (int rep = 0; rep < 4000; ++rep) {
     const bool all_failed = rep % 2 == 0;
     const double scale = std::pow(10.0, 5.0 + 3.0 * u(rng));
@@ -330,6 +331,8 @@ TEST(GradyKipp, FullyDamagedBatchesKeepTheFullPathsBits) {
     for (double& x : d) x = all_failed || u(rng) < 0.5 ? 1.0 : 0.5 * u(rng);
     DamageState<test::Batch> a = batch_state(d, rng);
     DamageState<test::Batch> b = a;
+    DamageState<test::Batch> c = a;
+    (gk.decided_by_bounds(in, c, gk.matrix(in, c.damage)) ? decided : swept) += 1;
     gk.evolve_full(in, a, gk.matrix(in, a.damage));
     gk.evolve_full<test::Batch, true>(in, b, gk.matrix(in, b.damage));
     ASSERT_TRUE(same_bits(a, b)) << "batch " << rep;
@@ -345,6 +348,48 @@ TEST(GradyKipp, FullyDamagedBatchesKeepTheFullPathsBits) {
   EXPECT_GT(failed, 1000);
   EXPECT_GT(mixed, 1000);
   EXPECT_GT(grown, 1000);
+  EXPECT_GT(decided, 400);  // no sweep: bounds decide every lane (decided_by_bounds)
+  EXPECT_GT(swept, 400);
+}
+
+TEST(GradyKipp, IdleLanesKeepTheFullPathsBits) {
+  // evolve_full skips the exp and log of Eq. 17 where no lane is active, and Eq. 19 and BA95
+  // Eq. 22 (three cbrt) where every lane is fully damaged or has no active flaw (settled): D and
+  // n_act must be those of kAllWork. Each lane is failed (D = 1), idle (its stress scaled down
+  // by 1e-6, below every threshold; D = 0 or in (0, 0.5)) or loaded (stresses at 1e5-1e8 Pa);
+  // a third of the batches hold no loaded lane. Bound: bitwise equality; the counts show
+  // settled batches with undamaged lanes, batches without an active lane, and batches in full.
+  using B = test::Batch;
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const GradyKipp gk{};
+  int settled = 0, inactive = 0, full = 0;
+  for (int rep = 0; rep < 4000; ++rep) {
+    DamageInput<B> in = batch_input(rng, std::pow(10.0, 5.0 + 3.0 * u(rng)), 0.3, 1e-7);
+    alignas(64) double d[kW], s[6][kW];
+    for (int k = 0; k < 6; ++k) in.s[k].store_aligned(s[k]);
+    for (std::size_t l = 0; l < kW; ++l) {
+      const double pick = u(rng);
+      const bool loaded = rep % 3 != 0 && pick < 0.3;
+      d[l] = pick > 0.65 ? 1.0 : (u(rng) < 0.5 ? 0.0 : 0.5 * u(rng));
+      if (!loaded && d[l] < 1.0) {
+        for (auto& c : s) c[l] *= 1e-6;
+      }
+    }
+    for (int k = 0; k < 6; ++k) in.s[k] = B::load_aligned(s[k]);
+    DamageState<B> a = batch_state(d, rng);
+    DamageState<B> b = a;
+    gk.evolve_full(in, a, gk.matrix(in, a.damage));
+    gk.evolve_full<B, true>(in, b, gk.matrix(in, b.damage));
+    ASSERT_TRUE(same_bits(a, b)) << "batch " << rep;
+    const bool some_intact = xsimd::any(B::load_aligned(d) < 1.0);
+    if (GradyKipp::settled(B::load_aligned(d), a.n_active, a.n_flaws) && some_intact) ++settled;
+    if (xsimd::all(a.n_active == 0.0)) ++inactive;
+    if (!GradyKipp::settled(B::load_aligned(d), a.n_active, a.n_flaws)) ++full;
+  }
+  EXPECT_GT(settled, 500);
+  EXPECT_GT(inactive, 200);
+  EXPECT_GT(full, 500);
 }
 
 }  // namespace

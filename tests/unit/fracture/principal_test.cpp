@@ -96,12 +96,13 @@ TEST(PrincipalValues, SimdLanesEqualScalarPath) {
 }
 
 TEST(PrincipalValues, SettledSweepsKeepTheFourSweepsBits) {
-  // principal_values stops sweeping once no later sweep can change the diagonal
-  // (detail::diagonal_settled); it must give the bits of the four sweeps (kAllSweeps) in every
+  // principal_values stops rotating once no later rotation can change the diagonal
+  // (detail::diagonal_settled, after any rotation of the second sweep on); it must give the bits
+  // of the four sweeps (kAllSweeps) in every
   // lane. Tensors: the samples above, and random ones from nearly diagonal (off-diagonal terms
   // 1e-14-1 of the diagonal), r-z-like (a_xz = a_yz = 0), near double roots and a pressure shift,
-  // so that batches stop after 1, 2 or 3 sweeps or run all four. Bound: bitwise equality of
-  // s1, s2, s3, batch and scalar path; the counts show each exit was taken.
+  // so that batches stop after 1, 2 or 3 sweeps, inside a sweep, or run all four. Bound: bitwise
+  // equality of s1, s2, s3, batch and scalar path; the counts show each exit was taken.
   using B = test::Batch;
   constexpr std::size_t w = B::size;
   auto all = samples();
@@ -120,17 +121,17 @@ TEST(PrincipalValues, SettledSweepsKeepTheFourSweepsBits) {
     for (int k = 0; k < 3; ++k) s[static_cast<std::size_t>(k)] -= p;
     all.push_back(s);
   }
-  int exits[5] = {};
+  int exits[13] = {};
   for (std::size_t base = 0; base + w <= all.size(); base += w) {
     alignas(64) double in[6][w];
     for (std::size_t l = 0; l < w; ++l)
       for (int c = 0; c < 6; ++c) in[c][l] = all[base + l][static_cast<std::size_t>(c)];
     B s[6];
     for (int c = 0; c < 6; ++c) s[c] = B::load_aligned(in[c]);
-    int sweeps = -1;
-    const auto a = damage::principal_values(s, &sweeps);
+    int rotations = -1;
+    const auto a = damage::principal_values(s, &rotations);
     const auto b = damage::principal_values<B, true>(s);
-    ++exits[sweeps];
+    ++exits[rotations];
     alignas(64) double va[3][w], vb[3][w];
     a.s1.store_aligned(va[0]), a.s2.store_aligned(va[1]), a.s3.store_aligned(va[2]);
     b.s1.store_aligned(vb[0]), b.s2.store_aligned(vb[1]), b.s3.store_aligned(vb[2]);
@@ -147,9 +148,10 @@ TEST(PrincipalValues, SettledSweepsKeepTheFourSweepsBits) {
       }
     }
   }
-  EXPECT_GT(exits[1] + exits[2], 100);
-  EXPECT_GT(exits[3], 100);
-  EXPECT_GT(exits[4], 100);
+  EXPECT_GT(exits[3] + exits[6], 100);                // after 1 or 2 sweeps
+  EXPECT_GT(exits[7] + exits[8] + exits[9], 100);     // in or after the third sweep
+  EXPECT_GT(exits[10] + exits[11] + exits[12], 100);  // in the fourth
+  EXPECT_GT(exits[4] + exits[5] + exits[7] + exits[8] + exits[10] + exits[11], 100);  // inside
 }
 
 }  // namespace
