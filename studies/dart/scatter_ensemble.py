@@ -7,7 +7,7 @@ the impact speed 7000 (1 + k 1e-6) m/s, k = 0..3, set with --set body.impactor.v
 The script reads each RUN/timeseries.csv (beta_launch against time, linearly interpolated) and
 prints, at the times of --times, every member's beta_launch, the mean and the sample standard
 deviation (ddof 1) over the members, their range and the largest difference between two members;
-with --compare LABEL=RUN (any number) it puts single runs of the same point (other widths,
+with --compare LABEL=RUN (any number; split at the last "=") it puts single runs of the same point (other widths,
 domains or binaries) beside the ensemble: their difference from the ensemble mean, in units of
 the standard deviation of one run (a difference between two single runs has sqrt(2) times it).
 With --reference (docs/figures/dart/raducan2019_beta.csv) and --point COHESION:POROSITY:FRICTION
@@ -64,7 +64,7 @@ def main():
     a = ap.parse_args()
     members = [series(r) for r in a.members]
     names = [os.path.basename(r.rstrip("/")) for r in a.members]
-    compared = [(c.split("=", 1)[0], series(c.split("=", 1)[1])) for c in a.compare]
+    compared = [(c.rsplit("=", 1)[0], series(c.rsplit("=", 1)[1])) for c in a.compare]
     b_isale = None
     if a.reference:
         b_isale = float(read_reference(a.reference,
