@@ -143,6 +143,11 @@ def plot(members, names, compared, b_isale, a):
     ax_d.set_ylabel("beta_launch - ensemble mean")
     pc.legend(ax_d, loc="lower left", ncol=2)
     pc.save(fig, a.plot)
+    try:  # the noisy curves make a 230 kB RGBA PNG; a 64-colour palette keeps it ~60 kB
+        from PIL import Image
+        Image.open(a.plot).convert("RGB").quantize(colors=64).save(a.plot, optimize=True)
+    except ImportError:
+        pass
 
 
 if __name__ == "__main__":
