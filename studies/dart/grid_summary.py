@@ -18,6 +18,13 @@ prints, as markdown:
     porosity 10% to 40%, cohesion 1 to 100 kPa), ours against iSALE's: a ratio of 1 between the
     two codes means the trend is reproduced at its strength.
 
+With --scatter S (session 23): S is the sample standard deviation of one run's beta_launch as a
+fraction of its beta - 1, measured by an ensemble of perturbed runs of one point
+(studies/dart/scatter_ensemble.py; the 10 kPa point, 9 m target, at 0.3 s); each row then also
+gets +-2 S (beta - 1) in % of iSALE's beta and whether its in-or-out verdict holds across that
+band ("robust") or not ("within 2 sd of the line"). Applying one point's relative scatter to the
+others is an assumption, stated with the table. The plot then draws +-2 S (beta - 1) error bars.
+
 With --plot FILE.png: beta against friction (with iSALE's 1, 10 and 100 kPa series), against
 porosity and against cohesion, iSALE's points and ours (tools/plot_common.py conventions).
 
@@ -68,12 +75,15 @@ def main():
     ap.add_argument("ours")
     ap.add_argument("--plot")
     ap.add_argument("--tolerance", type=float, default=0.2)
+    ap.add_argument("--scatter", type=float, default=0.0,
+                    help="one run's sd of beta_launch as a fraction of beta - 1")
     a = ap.parse_args()
     ref = reference(a.reference)
     ours = read_csv(a.ours)
     print("| point | Ydam0 | porosity | f | iSALE beta | ours (beta_launch) | difference | "
-          "target radius x depth | time reached | CPPR | session |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "target radius x depth | time reached | CPPR | session |"
+          + (" +-2 sd | verdict across +-2 sd |" if a.scatter else ""))
+    print("|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|" if a.scatter else ""))
     best = {}  # the last CPPR 3 row of each point (the table lists older runs first)
     for r in ours:
         k = key(r)
@@ -85,7 +95,8 @@ def main():
         print(f"| {r['point']} | {k[0] / 1e3:g} kPa | {k[1]:g}% | {k[2]:g} | {b_ref:.3f} | {b:.3f} "
               f"| {100 * diff:+.1f}%{'' if ok else ' (outside)'} "
               f"| {float(r.get('target_radius_m') or 9):g} x {float(r['target_depth_m']):g} m "
-              f"| {float(r['t_end_s']):g} s | {float(r['cppr']):g} | {r['session']} |")
+              f"| {float(r['t_end_s']):g} s | {float(r['cppr']):g} | {r['session']} |"
+              + (band(b, b_ref, a) if a.scatter else ""))
     within = sum(abs(b / ref[k] - 1.0) <= a.tolerance for k, b in best.items())
     print(f"\nwithin {100 * a.tolerance:g}%: {within} of {len(best)} points (CPPR 3, the last run"
           " of each point)")
@@ -112,10 +123,20 @@ def main():
             print(f"| {name} | {'not run' if k0 not in best else ''}"
                   f"{'not run' if k1 not in best else ''} | | |")
     if a.plot:
-        plot(ref, ours, a.plot)
+        plot(ref, ours, a.plot, a.scatter)
 
 
-def plot(ref, ours, path):
+def band(b, b_ref, a):
+    """' +-X% | robust |': the +-2 sd band of one run in % of iSALE's beta and whether the
+    in-or-out verdict at the tolerance holds across it."""
+    half = 2 * a.scatter * (b - 1.0) / b_ref
+    lo, hi = b / b_ref - 1.0 - half, b / b_ref - 1.0 + half
+    inside = [abs(x) <= a.tolerance for x in (lo, hi, b / b_ref - 1.0)]
+    robust = all(inside) or not any(inside)
+    return f" +-{100 * half:.1f}% | {'robust' if robust else 'within 2 sd of the line'} |"
+
+
+def plot(ref, ours, path, scatter=0.0):
     last, finer = {}, {}  # the last CPPR 3 run of each point, as counted in main(); the last finer
     for r in ours:
         if float(r["cppr"]) == 3:
@@ -144,6 +165,10 @@ def plot(ref, ours, path):
             if mine:
                 ax.plot([p[0] for p in mine], [p[1] for p in mine], "s-", color=f"C{i}",
                         label=f"ours {text} (CPPR 3, last run)")
+                if scatter:
+                    ax.errorbar([p[0] for p in mine], [p[1] for p in mine],
+                                yerr=[2 * scatter * (p[1] - 1.0) for p in mine], fmt="none",
+                                color=f"C{i}", capsize=3, lw=1)
             fine = sorted((key(r)[axis], float(r["beta_launch"])) for r in finer
                           if keep(key(r)) and key(r)[other] == g)
             if fine:
@@ -154,7 +179,7 @@ def plot(ref, ours, path):
         pc.label(ax, name, "beta")
         pc.legend(ax, fontsize=7)
     axes[0].set_title("Raducan et al. 2019 grid: iSALE-2D (open, 5 s) vs r-z MPM (filled, time"
-                      " reached in the docs)",
+                      " reached in the docs" + (", bars +-2 sd of one run)" if scatter else ")"),
                       fontsize=9, loc="left")
     pc.save(fig, path)
 

@@ -72,12 +72,18 @@ def read_run(run):
     return ts, launches
 
 
-def target_label(run):
-    """'9 m x 12 m target' from the run's resolved scene (RUN/scene.toml)."""
+def target_label(run, with_domain=False):
+    """'9 m x 12 m target' from the run's resolved scene (RUN/scene.toml); with with_domain
+    (two runs of one target in different domains, session 23) ', domain r < 14 m, z > -13 m'."""
     try:
         with open(os.path.join(run, "scene.toml"), "rb") as f:
-            t = tomllib.load(f)["body"]["target"]
-        return f"{t['radius']:g} m x {t['length']:.4g} m target"
+            scene = tomllib.load(f)
+        t = scene["body"]["target"]
+        text = f"{t['radius']:g} m x {t['length']:.4g} m target"
+        if with_domain:
+            d = scene["domain"]
+            text += f", domain r < {d['hi'][0]:g} m, z > {d['lo'][2]:g} m"
+        return text
     except (OSError, KeyError, tomllib.TOMLDecodeError):
         return os.path.basename(run.rstrip("/"))
 
@@ -178,6 +184,8 @@ def main():
                                   if 0.05 * i <= max(t_n, t_w) + 1e-9]
     rows = []
     names = {"narrow": target_label(a.narrow), "wide": target_label(a.wide)}
+    if names["narrow"] == names["wide"]:  # one target in two domains: say which is which
+        names = {"narrow": target_label(a.narrow, True), "wide": target_label(a.wide, True)}
     print(f"# {os.path.basename(a.narrow.rstrip('/'))}, {names['narrow']} (to {t_n:.4f} s) against "
           f"{os.path.basename(a.wide.rstrip('/'))}, {names['wide']} (to {t_w:.4f} s); "
           f"iSALE final {b_isale:.3f}")
@@ -248,7 +256,8 @@ def plot(runs, tracers, b_isale, a, t_common, names, key):
     pc.label(ax, None, "beta_launch")
     ax.set_xlabel("time (s)")
     ax.set_title(f"{key[0] / 1e3:g} kPa, {key[1]:g}%, f {key[2]:g}, r-z MPM CPPR 3: beta_launch(t) "
-                 "on two target widths", fontsize=9)
+                 + ("on two target widths" if names["narrow"].split(",")[0] !=
+                    names["wide"].split(",")[0] else "of one target in two domains"), fontsize=9)
     pc.legend(ax, loc="lower right")
     xs = [0.25 * i for i in range(0, 57)]
     for i, (name, (ts, launches)) in enumerate(runs.items()):
