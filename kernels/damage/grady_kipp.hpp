@@ -126,6 +126,11 @@ struct GradyKipp {
     const auto idle = (n_act == 0.0) && (d_old >= 0.0) && !xsimd::isnan(n_flaws);
     return !simd::any(!((d_old >= 1.0) || idle));
   }
+  // D where settled() holds: max(D^n, min(q, 1)), q = n_act / max(n_f, 1).
+  template <class T>
+  static T settled_damage(const T& d_old, const T& n_act, const T& n_flaws) {
+    return xsimd::max(d_old, xsimd::min(n_act / xsimd::max(n_flaws, T(1.0)), T(1.0)));
+  }
 
   // Whether bounds of the largest principal value decide every lane without the Jacobi sweeps;
   // then st holds what evolve_full would give, bit for bit. Bounds: lo = max_i s_ii (Rayleigh)
@@ -157,7 +162,7 @@ struct GradyKipp {
     if (simd::any(!((failed && (idle || saturated)) || idle_ok))) return false;
     // idle and saturated exclude each other (eps(lo) <= eps(hi)).
     st.n_active = simd::vselect(saturated, st.n_flaws, T(0.0));
-    st.damage = xsimd::max(d_old, xsimd::min(st.n_active / xsimd::max(st.n_flaws, T(1.0)), T(1.0)));
+    st.damage = settled_damage(d_old, st.n_active, st.n_flaws);
     return true;
   }
 
@@ -176,7 +181,7 @@ struct GradyKipp {
     if (!kAllWork && settled(d_old, n_act, st.n_flaws)) {
       // Every lane fully damaged or without an active flaw: Eq. 19's increment cannot move D
       // (below), so the three cbrt are not evaluated. Same bits.
-      st.damage = xsimd::max(d_old, xsimd::min(n_act / xsimd::max(st.n_flaws, T(1.0)), T(1.0)));
+      st.damage = settled_damage(d_old, n_act, st.n_flaws);
       return st.damage;
     }
     // Eq. 19 integrated over dt in D^(1/3).
